@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# One entry point for a fresh machine: `bash dev.sh serve` or `bash dev.sh test`.
+# Each command installs what it needs first (idempotently) and then runs.
+set -euo pipefail
+cd "$(dirname "$0")"
+VENV=.venv
+PY=${PYTHON:-python3}
+
+setup_python() {
+    if [ ! -x "$VENV/bin/python" ]; then
+        "$PY" -m venv "$VENV"
+    fi
+    # Reinstall only when pyproject.toml changed since the last install.
+    local stamp="$VENV/.installed-$(sha1sum pyproject.toml | cut -c1-12)"
+    if [ ! -f "$stamp" ]; then
+        "$VENV/bin/pip" install --quiet --upgrade pip
+        "$VENV/bin/pip" install --quiet -e ".[test]"
+        rm -f "$VENV"/.installed-*
+        touch "$stamp"
+    fi
+}
+
+need_debian_package() {  # need_debian_package BINARY PACKAGE
+    if ! command -v "$1" >/dev/null 2>&1; then
+        if [ "$(id -u)" = 0 ]; then
+            apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$2"
+        else
+            echo "dev.sh: '$1' is missing; install the Debian package '$2'" >&2
+            exit 1
+        fi
+    fi
+}
+
+case "${1:-}" in
+    serve)
+        setup_python
+        shift
+        exec "$VENV/bin/billiards" serve "$@"
+        ;;
+    test)
+        setup_python
+        need_debian_package redis-server redis-server
+        shift
+        "$VENV/bin/ruff" check .
+        "$VENV/bin/ruff" format --check .
+        exec "$VENV/bin/pytest" -q "$@"
+        ;;
+    *)
+        echo "usage: bash dev.sh serve [--host H] [--port P] | bash dev.sh test [pytest args]" >&2
+        exit 2
+        ;;
+esac

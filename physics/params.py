@@ -1,0 +1,64 @@
+"""Physical constants of one scene: balls, cloth, cushions.
+
+A `Params` value is immutable and travels with the scene it belongs to; nothing in the engine
+reads a module global, so two tables with different cloth can be simulated side by side.
+The scene format's names are kept (`u_s`, `u_r`, ...), see the physics issue and the errata in
+`shared/seed/ERRATA.md` for how each is used.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+from typing import Any
+
+
+@dataclass(frozen=True, slots=True)
+class Params:
+    """Ball and cloth constants (SI units).
+
+    R, m: ball radius (m) and mass (kg).
+    u_s: ball-cloth sliding friction; a sliding ball's slip point decelerates at 7/2 u_s g.
+    u_r: rolling resistance as in Han 2005: a rolling ball decelerates at u_r g (errata 2).
+    u_sp: spin (about the vertical) friction: dw_z/dt = -5/2 u_sp g / R in every state (errata 3).
+    e_b: ball-ball coefficient of restitution.
+    e_c: ball-cushion coefficient of restitution.
+    f_c: ball-cushion sliding friction (mu_w of Mathavan 2010).
+    g: gravity (m/s^2).
+    throw_a, throw_b, throw_c: Alciatore's ball-ball friction fit mu(v) = a + b exp(-c v)
+        where v is the contact-point slip speed (errata 4).
+    m_cue: cue mass (kg) for the cue strike model.
+    mathavan_steps: impulse steps per phase of the Mathavan cushion integration.
+    """
+
+    R: float = 0.028575
+    m: float = 0.170097
+    u_s: float = 0.2
+    u_r: float = 0.01
+    u_sp: float = 0.01
+    e_b: float = 0.95
+    e_c: float = 0.85
+    f_c: float = 0.2
+    g: float = 9.81
+    throw_a: float = 9.951e-3
+    throw_b: float = 0.108
+    throw_c: float = 1.088
+    m_cue: float = 0.567
+    mathavan_steps: int = 40
+
+    def with_overrides(self, overrides: dict[str, Any]) -> Params:
+        """A copy with some fields replaced; unknown names are an error."""
+        known = {f.name for f in fields(self)}
+        unknown = sorted(set(overrides) - known)
+        if unknown:
+            raise ValueError(f"unknown params: {', '.join(unknown)}")
+        return replace(self, **overrides)
+
+
+#: Pool balls (2 1/4 in, 6 oz) on ordinary worsted cloth: the seed's constants.
+POOL = Params()
+
+#: Snooker balls (52.5 mm, about 141 g) on napped snooker cloth, which runs a little further.
+SNOOKER = Params(R=0.02625, m=0.1406, u_r=0.008)
+
+#: Carom balls (61.5 mm, 210 g) on heated three-cushion cloth, the fastest of the three.
+CAROM = Params(R=0.03075, m=0.21, u_r=0.007, e_c=0.9)

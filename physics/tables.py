@@ -1,0 +1,192 @@
+"""Table geometry: the playing surface, cushion segments, rounded jaws and pockets.
+
+Coordinates: origin at the corner of the playing surface where the cushion noses meet, x across
+the width `w`, y along the length `l`. The cushion noses are the lines x=0, x=w, y=0, y=l, broken
+at the pocket mouths. Each rail ends in a jaw: a circle of radius `jaw_radius` tangent to the nose
+line at the end of the rail, so a ball glancing off the end of a rail turns smoothly into the
+pocket. A ball is captured when its centre enters a pocket's capture circle, which sits `depth`
+behind the middle of the mouth.
+
+Pocket sizes are the usual ones of a WPA-spec nine-ball table and of a snooker table; pooltool's
+published defaults were used as a cross-check for the pool values.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any
+
+from physics.params import CAROM, POOL, SNOOKER, Params
+
+
+@dataclass(frozen=True, slots=True)
+class Segment:
+    """A straight cushion nose from p1 to p2, with the unit normal pointing into the table."""
+
+    name: str
+    p1: tuple[float, float]
+    p2: tuple[float, float]
+    normal: tuple[float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Jaw:
+    """The rounded end of a rail at a pocket mouth: a circle the ball can hit from outside."""
+
+    name: str
+    pocket: str
+    center: tuple[float, float]
+    radius: float
+
+
+@dataclass(frozen=True, slots=True)
+class Pocket:
+    """A pocket's capture circle: a ball whose centre enters it drops."""
+
+    name: str
+    center: tuple[float, float]
+    radius: float
+
+
+@dataclass(frozen=True, slots=True)
+class TableSpec:
+    """The numbers that define a table; `geometry()` turns them into segments, jaws, pockets.
+
+    corner_mouth / side_mouth: distance between the jaw tips of a corner / side pocket (m).
+    *_depth: how far behind the middle of the mouth the capture circle's centre sits (m).
+    *_radius: capture circle radius (m). jaw_radius: radius of the rounded rail ends (m).
+    cushion_height: height of the cushion nose's contact point above the cloth (m); sets the
+    contact angle of both cushion models: sin(theta) = cushion_height / R - 1.
+    """
+
+    name: str
+    w: float
+    l: float
+    pockets: bool
+    cushion_height: float
+    corner_mouth: float = 0.118
+    corner_depth: float = 0.0398
+    corner_radius: float = 0.062
+    side_mouth: float = 0.137
+    side_depth: float = 0.00437
+    side_radius: float = 0.0645
+    jaw_radius: float = 0.02095
+
+    def with_overrides(self, overrides: dict[str, Any]) -> TableSpec:
+        known = set(self.__dataclass_fields__) - {"name"}
+        unknown = sorted(set(overrides) - known)
+        if unknown:
+            raise ValueError(f"unknown table fields: {', '.join(unknown)}")
+        return replace(self, name=overrides.get("name", "custom"), **overrides)
+
+    def geometry(self) -> Geometry:
+        return build_geometry(self)
+
+
+@dataclass(frozen=True, slots=True)
+class Geometry:
+    """Everything the collision detector needs about a table, precomputed once per scene."""
+
+    spec: TableSpec
+    segments: tuple[Segment, ...]
+    jaws: tuple[Jaw, ...]
+    pockets: tuple[Pocket, ...]
+
+
+def _corner(name: str, corner: tuple[float, float], inward: tuple[float, float], spec: TableSpec):
+    """Rails, jaws and capture circle of the corner pocket at `corner`.
+
+    `inward` is (+-1, +-1): the directions along x and y that point into the table.
+    Returns the x-rail and y-rail end points (where the straight noses stop) and the pieces.
+    """
+    cx, cy = corner
+    sx, sy = inward
+    c = spec.corner_mouth / math.sqrt(2.0)
+    r = spec.jaw_radius
+    end_x = (cx + sx * c, cy)  # end of the rail that runs along x (the short rail)
+    end_y = (cx, cy + sy * c)  # end of the rail that runs along y (the long rail)
+    jaws = (
+        Jaw(f"{name}_x", name, (end_x[0], cy - sy * r), r),
+        Jaw(f"{name}_y", name, (cx - sx * r, end_y[1]), r),
+    )
+    mid = (cx + sx * c / 2, cy + sy * c / 2)
+    d = spec.corner_depth / math.sqrt(2.0)
+    pocket = Pocket(name, (mid[0] - sx * d, mid[1] - sy * d), spec.corner_radius)
+    return end_x, end_y, jaws, pocket
+
+
+def _side(name: str, x: float, inward: float, spec: TableSpec):
+    """Jaws and capture circle of a side pocket in the long rail x = `x` at mid length."""
+    ym = spec.l / 2
+    h = spec.side_mouth / 2
+    r = spec.jaw_radius
+    jaws = (
+        Jaw(f"{name}_low", name, (x - inward * r, ym - h), r),
+        Jaw(f"{name}_high", name, (x - inward * r, ym + h), r),
+    )
+    pocket = Pocket(name, (x - inward * spec.side_depth, ym), spec.side_radius)
+    return (ym - h, ym + h), jaws, pocket
+
+
+def build_geometry(spec: TableSpec) -> Geometry:
+    w, l = spec.w, spec.l
+    if not spec.pockets:
+        segments = (
+            Segment("bottom", (0.0, 0.0), (w, 0.0), (0.0, 1.0)),
+            Segment("top", (w, l), (0.0, l), (0.0, -1.0)),
+            Segment("left", (0.0, l), (0.0, 0.0), (1.0, 0.0)),
+            Segment("right", (w, 0.0), (w, l), (-1.0, 0.0)),
+        )
+        return Geometry(spec, segments, (), ())
+    bl_x, bl_y, bl_j, bl_p = _corner("bottom_left", (0.0, 0.0), (1, 1), spec)
+    br_x, br_y, br_j, br_p = _corner("bottom_right", (w, 0.0), (-1, 1), spec)
+    tl_x, tl_y, tl_j, tl_p = _corner("top_left", (0.0, l), (1, -1), spec)
+    tr_x, tr_y, tr_j, tr_p = _corner("top_right", (w, l), (-1, -1), spec)
+    (ml_lo, ml_hi), ml_j, ml_p = _side("middle_left", 0.0, 1.0, spec)
+    (mr_lo, mr_hi), mr_j, mr_p = _side("middle_right", w, -1.0, spec)
+    segments = (
+        Segment("bottom", bl_x, br_x, (0.0, 1.0)),
+        Segment("top", tr_x, tl_x, (0.0, -1.0)),
+        Segment("left_bottom", (0.0, ml_lo), bl_y, (1.0, 0.0)),
+        Segment("left_top", tl_y, (0.0, ml_hi), (1.0, 0.0)),
+        Segment("right_bottom", br_y, (w, mr_lo), (-1.0, 0.0)),
+        Segment("right_top", (w, mr_hi), tr_y, (-1.0, 0.0)),
+    )
+    jaws = bl_j + br_j + ml_j + mr_j + tl_j + tr_j
+    pockets = (bl_p, br_p, ml_p, mr_p, tl_p, tr_p)
+    return Geometry(spec, segments, jaws, pockets)
+
+
+#: A 9 ft pool table (100 x 50 in playing surface) for nine-ball and eight-ball; the cushion
+#: nose at 63.5% of the ball's diameter.
+NINEBALL = TableSpec("nineball", w=1.27, l=2.54, pockets=True, cushion_height=0.635 * 2 * 0.028575)
+
+#: A 12 ft snooker table (3569 x 1778 mm) with its tighter, rounder pockets; the nose at 7R/5,
+#: the height Mathavan 2010 measured (sin theta = 2/5).
+SNOOKER_TABLE = TableSpec(
+    "snooker",
+    w=1.778,
+    l=3.569,
+    pockets=True,
+    cushion_height=1.4 * 0.02625,
+    corner_mouth=0.086,
+    corner_depth=0.03,
+    corner_radius=0.05,
+    side_mouth=0.1,
+    side_depth=0.01,
+    side_radius=0.052,
+    jaw_radius=0.03,
+)
+
+#: A match carom table (2.84 x 1.42 m playing surface), no pockets.
+THREE_CUSHION = TableSpec(
+    "three_cushion", w=1.42, l=2.84, pockets=False, cushion_height=0.037
+)
+
+#: Each named table with the balls and cloth it is played with.
+PRESETS: dict[str, tuple[TableSpec, Params]] = {
+    "nineball": (NINEBALL, POOL),
+    "snooker": (SNOOKER_TABLE, SNOOKER),
+    "three_cushion": (THREE_CUSHION, CAROM),
+}
