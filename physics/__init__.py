@@ -1,0 +1,36 @@
+"""Event-based billiards physics: a scene in, the events and exact trajectories of a shot out.
+
+`simulate_scene(scene_dict)` is the whole engine behind `billiards simulate`; `simulate`
+returns the full `Shot` (with per-ball piecewise-polynomial trajectories) for callers that want
+more than the summary.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from physics.engine import Simulation, SimulationError
+from physics.scene import Scene, SceneError, parse_scene
+from physics.trajectory import Shot
+
+__all__ = [
+    "Scene",
+    "SceneError",
+    "Shot",
+    "SimulationError",
+    "parse_scene",
+    "simulate",
+    "simulate_scene",
+]
+
+
+def simulate(scene: Scene | dict[str, Any]) -> Shot:
+    """Simulate one shot until every ball is at rest or pocketed."""
+    if not isinstance(scene, Scene):
+        scene = parse_scene(scene)
+    return Simulation(scene).run()
+
+
+def simulate_scene(scene: dict[str, Any]) -> dict[str, Any]:
+    """Simulate a scene dictionary and return the JSON-ready summary (events, final, duration)."""
+    return simulate(scene).summary()

@@ -43,7 +43,7 @@ class Params:
     throw_b: float = 0.108
     throw_c: float = 1.088
     m_cue: float = 0.567
-    mathavan_steps: int = 40
+    mathavan_steps: int = 4
 
     def with_overrides(self, overrides: dict[str, Any]) -> Params:
         """A copy with some fields replaced; unknown names are an error."""

@@ -67,7 +67,7 @@ class Segment(BaseModel):
 class BallFinal(BaseModel):
     model_config = ConfigDict(frozen=True)
 
-    pos: tuple[float, float] | None
+    pos: tuple[float, float] | None = None
     state: MotionState
     pocket: str | None = None
 

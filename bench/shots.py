@@ -1,0 +1,90 @@
+"""Time the event engine on the breaks: events, median wall time, and the first call.
+
+    .venv/bin/python bench/shots.py [--repeat N]
+
+The first-call time is measured in a fresh interpreter (import, then one shot), so it shows
+any warm-up or JIT cost a server would pay on its first request. Also shown: what the cheaper
+model choices save ("models" key of the scene format) and how much the trajectory output
+weighs in msgpack.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from physics import parse_scene, simulate  # noqa: E402
+from physics.examples import BREAKS  # noqa: E402
+
+FIRST_CALL = """
+import time, sys
+t0 = time.perf_counter()
+from physics import simulate
+from physics.examples import BREAKS
+t1 = time.perf_counter()
+simulate(BREAKS[sys.argv[1]]())
+t2 = time.perf_counter()
+print(t1 - t0, t2 - t1)
+"""
+
+VARIANTS = {
+    "default": {},
+    "frictionless balls": {"ball_ball": "frictionless"},
+    "han cushion": {"cushion": "han"},
+    "no spin": {"spin": False},
+}
+
+
+def median_ms(scene, repeat: int) -> float:
+    parsed = parse_scene(scene)
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        simulate(parsed)
+        times.append(time.perf_counter() - t0)
+    return 1e3 * statistics.median(times)
+
+
+def first_call(name: str) -> tuple[float, float]:
+    out = subprocess.run(
+        [sys.executable, "-c", FIRST_CALL, name],
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=Path(__file__).resolve().parent.parent,
+    ).stdout.split()
+    return 1e3 * float(out[0]), 1e3 * float(out[1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=30)
+    parser.add_argument("--speed", type=float, default=8.0, help="break speed (m/s)")
+    args = parser.parse_args()
+    print(f"break speed {args.speed} m/s, median of {args.repeat} runs per row\n")
+    header = f"{'scene':<20} {'models':<19} {'events':>6} {'median ms':>10} {'vs default':>10}"
+    header += f" {'msgpack B':>9} {'import ms':>9} {'1st call ms':>11}"
+    print(header)
+    print("-" * len(header))
+    for name, make in BREAKS.items():
+        base = None
+        for label, models in VARIANTS.items():
+            scene = make(speed=args.speed) | {"models": models}
+            shot = simulate(scene)
+            ms = median_ms(scene, args.repeat)
+            base = base or ms
+            row = f"{name:<20} {label:<19} {len(shot.events):>6} {ms:>10.2f} {ms / base:>10.2f}"
+            if label == "default":
+                imp, first = first_call(name)
+                row += f" {len(shot.to_msgpack()):>9} {imp:>9.1f} {first:>11.1f}"
+            print(row)
+
+
+if __name__ == "__main__":
+    main()

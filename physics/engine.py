@@ -1,0 +1,506 @@
+"""The event loop: from one event to the next, never stepping through the time in between.
+
+Each ball carries a snapshot (time, position, velocity, spin) and the constant accelerations
+of its motion state, so its position at any later time before its next event is closed-form
+(physics.motion). After every event only the balls it touched are re-examined: their next
+motion transition, cushion, jaw and pocket contacts, and their pairings with every other ball
+(physics.roots gives each first contact). Predictions go into a heap with the versions of the
+balls they were computed from; a prediction whose ball has changed since is dropped when it
+surfaces. So a stationary ball costs nothing until something moves towards it, a pair that
+cannot meet within both balls' current paths is culled by a distance bound before any
+polynomial is formed, and a carom table never looks for pockets (it has none).
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from collections.abc import Callable
+
+from physics import motion
+from physics.ball_ball import BALL_BALL_MODELS
+from physics.cushion import CUSHION_MODELS
+from physics.motion import POCKETED, ROLLING, SLIDING, SPINNING, STATIONARY
+from physics.roots import first_entry, first_entry_quadratic, first_return, path_misses
+from physics.scene import Scene
+from physics.trajectory import BallFinal, Event, ModelsUsed, Segment, Shot
+
+#: A contact within this gap (m) is a touching contact, decided at the present.
+TOUCH_GAP = 1e-11
+#: A ball touching another ball or a cushion and not approaching it, and not coming apart
+#: either, makes a new contact once it presses in this much deeper (m): rolling along a
+#: cushion or beside a frozen ball is no contact at all, and a ball pressed in by friction is
+#: caught well inside the 1e-9 m the engine promises.
+REST_DEPTH = 1e-10
+#: A touching ball approaching slower than this (m/s) is not approaching: float noise of a
+#: tangent contact is not a new contact (a slow real push is caught through REST_DEPTH).
+MIN_APPROACH = 1e-9
+#: Approach speeds below this (m/s) are a resting contact: resolved without rebound, which
+#: stops the endless ever-smaller bounces of a ball pressed against another ball or a cushion.
+REST_SPEED = 1e-4
+#: The most events a shot may have before the engine gives up: far above any real shot.
+MAX_EVENTS = 20_000
+
+_MOVING = (SLIDING, ROLLING)
+
+
+class SimulationError(RuntimeError):
+    """The engine could not finish a shot (a bug, or a scene far outside play)."""
+
+
+class _Ball:
+    __slots__ = (
+        "ax",
+        "ay",
+        "dw",
+        "name",
+        "pocket",
+        "segments",
+        "state",
+        "t0",
+        "t_own",
+        "version",
+        "vx",
+        "vy",
+        "w",
+        "x",
+        "y",
+    )
+
+    def __init__(self, name: str, x: float, y: float) -> None:
+        self.name = name
+        self.t0 = 0.0
+        self.x, self.y = x, y
+        self.vx = self.vy = self.ax = self.ay = 0.0
+        self.w = (0.0, 0.0, 0.0)
+        self.dw = (0.0, 0.0, 0.0)
+        self.state = STATIONARY
+        self.version = 0
+        self.t_own = math.inf  # the ball's next own event: its path holds until then
+        self.pocket: str | None = None
+        self.segments: list[tuple] = []
+
+    def at(self, t: float) -> tuple[float, float, float, float]:
+        """Position and velocity at time t (no change to the snapshot)."""
+        dt = t - self.t0
+        return (
+            self.x + (self.vx + 0.5 * self.ax * dt) * dt,
+            self.y + (self.vy + 0.5 * self.ay * dt) * dt,
+            self.vx + self.ax * dt,
+            self.vy + self.ay * dt,
+        )
+
+    def advance(self, t: float) -> None:
+        """Move the snapshot to time t."""
+        dt = t - self.t0
+        if dt:
+            self.x, self.y, self.vx, self.vy = self.at(t)
+            w, dw = self.w, self.dw
+            self.w = (w[0] + dw[0] * dt, w[1] + dw[1] * dt, w[2] + dw[2] * dt)
+            self.t0 = t
+
+
+class Simulation:
+    """One shot on one table. `run()` returns the Shot; the object is used once."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        self.p = scene.params
+        self.models = scene.models
+        self.spin = scene.models.spin
+        self.ball_ball = BALL_BALL_MODELS["frictionless" if not self.spin else scene.models.ball_ball]
+        self.cushion: Callable = CUSHION_MODELS[scene.models.cushion]
+        self.sin_theta = scene.sin_theta
+        self.geometry = scene.geometry
+        self.balls = [_Ball(name, x, y) for name, (x, y) in scene.positions.items()]
+        self.index = {b.name: k for k, b in enumerate(self.balls)}
+        self.heap: list[tuple] = []
+        self.seq = 0
+        self.now = 0.0
+        self.events: list[Event] = []
+
+    # -- state changes -------------------------------------------------------------------
+
+    def _set_motion(self, b: _Ball, v: tuple[float, float], w: tuple[float, float, float]) -> None:
+        """Give ball b a new velocity and spin at the present and choose its motion state."""
+        p = self.p
+        if not self.spin:
+            w = motion.rolling_spin(v, 0.0, p.R)
+        b.t0 = self.now
+        b.vx, b.vy = v
+        b.w = w
+        b.state = motion.classify(v, w, p)
+        (b.ax, b.ay), b.dw = motion.accelerations(b.state, v, w, p)
+        b.version += 1
+        self._record(b)
+
+    def _record(self, b: _Ball) -> None:
+        b.segments.append(
+            (b.t0, b.state, (b.x, b.y), (b.vx, b.vy), (b.ax, b.ay), b.w, b.dw)
+        )
+
+    def _emit(self, kind: str, balls: tuple[str, ...], **extra: str) -> None:
+        self.events.append(Event.model_construct(t=self.now, type=kind, balls=balls, **extra))
+
+    # -- prediction ----------------------------------------------------------------------
+
+    def _push(self, t: float, kind: str, i: int, j: int = -1, data: object = None) -> None:
+        vj = self.balls[j].version if j >= 0 else 0
+        heapq.heappush(self.heap, (t, self.seq, kind, i, j, self.balls[i].version, vj, data))
+        self.seq += 1
+
+    def _predict(self, *changed: int) -> None:
+        """Queue the next events of the balls whose motion just changed.
+
+        First each one's next event of its own, which bounds how long its path holds, then
+        its next contact with every other ball (each pair once).
+        """
+        for i in changed:
+            self._predict_own(i)
+        balls = self.balls
+        for k, i in enumerate(changed):
+            bi = balls[i]
+            for j, other in enumerate(balls):
+                if j != i and other.state != POCKETED and j not in changed[:k]:
+                    self._predict_pair(i, j, bi, other)
+
+    def _predict_own(self, i: int) -> None:
+        """Queue ball i's next event of its own.
+
+        Of its own events (motion transition, cushion, jaw, pocket) only the earliest matters:
+        it changes the ball's path, and everything is predicted again then. That time also
+        bounds the search for the others, which is what makes the distance culling bite.
+        """
+        b = self.balls[i]
+        p, now = self.p, self.now
+        b.t_own = math.inf
+        if b.state in (SLIDING, ROLLING, SPINNING):
+            first = (now + motion.transition_time(b.state, (b.vx, b.vy), b.w, p), "motion", None)
+            if b.state != SPINNING:
+                first = min(first, self._table_contact(b, first[0] - now), key=_time)
+                t_spin = now + motion.spin_stop_time(b.w, p)
+                if t_spin < first[0]:
+                    self._push(t_spin, "spin", i)
+            b.t_own = first[0] if b.state != SPINNING else math.inf
+            self._push(first[0], first[1], i, data=first[2])
+
+    def _table_contact(self, b: _Ball, horizon: float) -> tuple[float, str, object]:
+        """The earliest cushion, jaw or pocket contact of a moving ball within `horizon`."""
+        R, now = self.p.R, self.now
+        best: tuple[float, str, object] = (math.inf, "", None)
+        x, y, vx, vy, ax, ay = b.x, b.y, b.vx, b.vy, b.ax, b.ay
+        speed, accel = math.hypot(vx, vy), math.hypot(ax, ay)
+        for seg in self.geometry.segments:
+            nx, ny = seg.normal
+            g0 = (x - seg.p1[0]) * nx + (y - seg.p1[1]) * ny - R
+            if g0 > (speed + 0.5 * accel * horizon) * horizon:
+                continue
+            g1 = vx * nx + vy * ny
+            c2 = 0.5 * (ax * nx + ay * ny)
+            if g0 <= TOUCH_GAP:
+                approaching = g1 < -MIN_APPROACH
+                t = 0.0 if approaching else first_return((g0, g1, c2), horizon, REST_DEPTH)
+            else:
+                t = first_entry_quadratic(g0, g1, c2, horizon)
+            if t is None:
+                continue
+            # Does the contact fall on this segment, not on the line beyond it?
+            tx, ty = seg.p2[0] - seg.p1[0], seg.p2[1] - seg.p1[1]
+            cx = x + (vx + 0.5 * ax * t) * t - seg.p1[0]
+            cy = y + (vy + 0.5 * ay * t) * t - seg.p1[1]
+            s = (cx * tx + cy * ty) / (tx * tx + ty * ty)
+            if 0.0 <= s <= 1.0:
+                horizon = t
+                best = (now + t, "cushion", seg)
+        for kind, circles in (("jaw", self.geometry.jaws), ("pocket", self.geometry.pockets)):
+            for circle in circles:
+                radius = circle.radius + (R if kind == "jaw" else 0.0)
+                t = self._circle_contact(b, circle.center, radius, horizon)
+                if t is not None:
+                    horizon = t
+                    best = (now + t, kind, circle)
+        return best
+
+    @staticmethod
+    def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
+        """First contact time from now for f = |d|^2 - contact^2 with coefficients c."""
+        if gap <= TOUCH_GAP:
+            if c[1] < -2.0 * contact * MIN_APPROACH:
+                return 0.0  # touching and approaching: now
+            return first_return(c, horizon, 2.0 * contact * REST_DEPTH)
+        return first_entry(c, horizon)
+
+    def _circle_contact(self, b: _Ball, center, radius, horizon):
+        dx, dy = b.x - center[0], b.y - center[1]
+        vx, vy, ax, ay = b.vx, b.vy, b.ax, b.ay
+        if path_misses(dx, dy, vx, vy, ax, ay, horizon, radius):
+            return None
+        dist = math.hypot(dx, dy)
+        c = (
+            dx * dx + dy * dy - radius * radius,
+            2.0 * (dx * vx + dy * vy),
+            vx * vx + vy * vy + dx * ax + dy * ay,
+            vx * ax + vy * ay,
+            0.25 * (ax * ax + ay * ay),
+        )
+        return self._first_contact(c, dist - radius, radius, horizon)
+
+    def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
+        if bi.state not in _MOVING and bj.state not in _MOVING:
+            return
+        now = self.now
+        horizon = min(bi.t_own, bj.t_own) - now
+        xj, yj, vxj, vyj = bj.at(now)
+        dx, dy = xj - bi.x, yj - bi.y
+        dvx, dvy = vxj - bi.vx, vyj - bi.vy
+        dax, day = bj.ax - bi.ax, bj.ay - bi.ay
+        D = 2.0 * self.p.R
+        if path_misses(dx, dy, dvx, dvy, dax, day, horizon, D):
+            return
+        dist = math.hypot(dx, dy)
+        c = (
+            dx * dx + dy * dy - D * D,
+            2.0 * (dx * dvx + dy * dvy),
+            dvx * dvx + dvy * dvy + dx * dax + dy * day,
+            dvx * dax + dvy * day,
+            0.25 * (dax * dax + day * day),
+        )
+        t = self._first_contact(c, dist - D, D, horizon)
+        if t is not None:
+            self._push(now + t, "ball", i, j)
+
+    # -- resolution ----------------------------------------------------------------------
+
+    def _collide_balls(self, i: int, j: int) -> None:
+        bi, bj = self.balls[i], self.balls[j]
+        bi.advance(self.now)
+        bj.advance(self.now)
+        dx, dy = bj.x - bi.x, bj.y - bi.y
+        d = math.hypot(dx, dy)
+        n = (dx / d, dy / d)
+        va, wa, vb, wb = (bi.vx, bi.vy), bi.w, (bj.vx, bj.vy), bj.w
+        vn = (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1]
+        if vn < REST_SPEED:
+            va, wa, vb, wb = self._rest(va, wa, vb, wb, n)
+        else:
+            va, wa, vb, wb = self.ball_ball(va, wa, vb, wb, n, self.p)
+        self._set_motion(bi, va, wa)
+        self._set_motion(bj, vb, wb)
+        self._emit("ball_ball", (bi.name, bj.name))
+        self._predict(i, j)
+
+    def _collide_cushion(self, i: int, normal: tuple[float, float], kind: str, **names) -> None:
+        b = self.balls[i]
+        b.advance(self.now)
+        v = (b.vx, b.vy)
+        if self.spin:
+            v_new, w_new = self.cushion(v, b.w, normal, self.p, self.sin_theta)
+        else:
+            vn = v[0] * normal[0] + v[1] * normal[1]
+            k = (1.0 + self.p.e_c) * vn
+            v_new, w_new = (v[0] - k * normal[0], v[1] - k * normal[1]), b.w
+        vn_in = -(v[0] * normal[0] + v[1] * normal[1])
+        if vn_in < REST_SPEED:
+            # Resting against the cushion: no rebound, and a slide that presses the ball into
+            # the cushion is finished at once (see _collide_balls).
+            vn_out = v_new[0] * normal[0] + v_new[1] * normal[1]
+            v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
+            (ax, ay), state = self._accel(v_new, w_new)
+            if state == SLIDING and ax * normal[0] + ay * normal[1] < 0.0:
+                v_new, w_new = self._finish_slide(v_new, w_new)
+        self._set_motion(b, v_new, w_new)
+        self._emit(kind, (b.name,), **names)
+        self._predict(i)
+
+    def _rest(self, va, wa, vb, wb, n):
+        """Two balls meeting at a crawl, which friction would keep pressing together.
+
+        An event engine would resolve that as endless ever-smaller collisions. Instead, with
+        the velocities from before the contact (at under REST_SPEED the friction impulse is
+        nil): no rebound, the pair merging its normal velocities as an inelastic pair (a
+        rolling ball weighs 7/5 m there, as the cloth keeps it rolling); a ball that sliding
+        friction presses into the other finishes its slide at once (so the push becomes one
+        real collision); and where rolling resistance alone presses them together (their
+        paths converge by mm/s^2), the ball behind gives up just enough of its approach to
+        stay clear until either ball stops. Every step only dissipates energy.
+        """
+        p = self.p
+        va, wa, vb, wb = self._merge(va, wa, vb, wb, n)
+        (aa, sa), (ab, sb) = self._accel(va, wa), self._accel(vb, wb)
+        if sa == SLIDING and aa[0] * n[0] + aa[1] * n[1] > 0.0:
+            va, wa = self._finish_slide(va, wa)
+        if sb == SLIDING and ab[0] * n[0] + ab[1] * n[1] < 0.0:
+            vb, wb = self._finish_slide(vb, wb)
+        if (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1] >= REST_SPEED:
+            return va, wa, vb, wb  # now truly approaching: a real collision follows at once
+        va, wa, vb, wb = self._merge(va, wa, vb, wb, n)
+        (aa, sa), (ab, sb) = self._accel(va, wa), self._accel(vb, wb)
+        pressing = (aa[0] - ab[0]) * n[0] + (aa[1] - ab[1]) * n[1]
+        if pressing <= 0.0 or SLIDING in (sa, sb):
+            return va, wa, vb, wb
+        until = min(
+            motion.transition_time(sa, va, wa, p), motion.transition_time(sb, vb, wb, p)
+        )
+        if not math.isfinite(until):
+            return va, wa, vb, wb
+        dv = 0.5 * pressing * until
+        slower_a = (va[0] - dv * n[0], va[1] - dv * n[1])
+        slower_b = (vb[0] + dv * n[0], vb[1] + dv * n[1])
+        if sa == ROLLING and math.hypot(*slower_a) < math.hypot(*va):
+            va, wa = slower_a, motion.rolling_spin(slower_a, wa[2], p.R)
+        elif sb == ROLLING and math.hypot(*slower_b) < math.hypot(*vb):
+            vb, wb = slower_b, motion.rolling_spin(slower_b, wb[2], p.R)
+        return va, wa, vb, wb
+
+    def _merge(self, va, wa, vb, wb, n):
+        """A perfectly inelastic normal impulse between two balls; rolling ones stay rolling."""
+        p = self.p
+        roll_a = motion.classify(va, wa, p) == ROLLING
+        roll_b = motion.classify(vb, wb, p) == ROLLING
+        ka, kb = (1.4 if roll_a else 1.0), (1.4 if roll_b else 1.0)
+        na = va[0] * n[0] + va[1] * n[1]
+        nb = vb[0] * n[0] + vb[1] * n[1]
+        common = (ka * na + kb * nb) / (ka + kb)
+        va = (va[0] + (common - na) * n[0], va[1] + (common - na) * n[1])
+        vb = (vb[0] + (common - nb) * n[0], vb[1] + (common - nb) * n[1])
+        if roll_a:
+            wa = motion.rolling_spin(va, wa[2], p.R)
+        if roll_b:
+            wb = motion.rolling_spin(vb, wb[2], p.R)
+        return va, wa, vb, wb
+
+    def _accel(self, v, w):
+        """(acceleration, state) a ball would have with this velocity and spin."""
+        state = motion.classify(v, w, self.p)
+        return motion.accelerations(state, v, w, self.p)[0], state
+
+    def _finish_slide(self, v, w):
+        """The velocity and spin a sliding ball would roll with once its slide is over.
+
+        Friction keeps the slip's direction and takes 2/7 of it off the velocity by the time
+        the slip is gone; jumping to that end state only dissipates energy, as the slide does.
+        """
+        ux, uy = motion.slip(v, w, self.p.R)
+        v_end = (v[0] - 2.0 / 7.0 * ux, v[1] - 2.0 / 7.0 * uy)
+        return v_end, motion.rolling_spin(v_end, w[2], self.p.R)
+
+    def _transition(self, i: int) -> None:
+        b = self.balls[i]
+        b.advance(self.now)
+        before = b.state
+        if before == SPINNING:
+            # The path does not change (the ball stays where it is): no new predictions.
+            b.state, b.w, b.dw = STATIONARY, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0)
+            self._record(b)
+            self._emit("spinning_stationary", (b.name,))
+            return
+        if before == SLIDING:
+            v = (b.vx, b.vy)
+            self._set_motion(b, v, motion.rolling_spin(v, b.w[2], self.p.R))
+            self._emit("sliding_rolling", (b.name,))
+        if b.state != ROLLING or before == ROLLING:
+            # A roll ends at rest (a slide can end at rest directly: then both events).
+            self._set_motion(b, (0.0, 0.0), (0.0, 0.0, b.w[2]))
+            self._emit(f"rolling_{b.state}", (b.name,))
+        self._predict(i)
+
+    def _spin_stop(self, i: int) -> None:
+        """w_z reached zero mid-path: a new output segment, the same path, no event."""
+        b = self.balls[i]
+        b.advance(self.now)
+        b.w = (b.w[0], b.w[1], 0.0)
+        b.dw = (b.dw[0], b.dw[1], 0.0)
+        self._record(b)
+
+    def _pocket(self, i: int, name: str) -> None:
+        b = self.balls[i]
+        b.advance(self.now)
+        b.state = POCKETED
+        b.pocket = name
+        b.vx = b.vy = b.ax = b.ay = 0.0
+        b.w = b.dw = (0.0, 0.0, 0.0)
+        b.t_own = math.inf
+        b.version += 1
+        self._record(b)
+        self._emit("ball_pocket", (b.name,), pocket=name)
+
+    # -- the loop ------------------------------------------------------------------------
+
+    def _start(self) -> None:
+        scene = self.scene
+        for b in self.balls:
+            self._record(b)
+        moving = []
+        if scene.strike is not None and scene.strike_motion is not None:
+            k = self.index[scene.strike.ball]
+            self._set_motion(self.balls[k], scene.strike_motion.v, scene.strike_motion.w)
+            self._emit("strike", (scene.strike.ball,))
+            moving.append(k)
+        for name, m in scene.initial.items():
+            k = self.index[name]
+            self._set_motion(self.balls[k], m.v, m.w)
+            moving.append(k)
+        self._predict(*moving)
+
+    def run(self) -> Shot:
+        self._start()
+        heap, balls = self.heap, self.balls
+        count = 0
+        while heap:
+            t, _, kind, i, j, vi, vj, data = heapq.heappop(heap)
+            if balls[i].version != vi or (j >= 0 and balls[j].version != vj):
+                continue
+            count += 1
+            if count > MAX_EVENTS:
+                raise SimulationError(f"more than {MAX_EVENTS} events; giving up")
+            self.now = t
+            if kind == "ball":
+                self._collide_balls(i, j)
+            elif kind == "motion":
+                self._transition(i)
+            elif kind == "spin":
+                self._spin_stop(i)
+            elif kind == "cushion":
+                self._collide_cushion(i, data.normal, "ball_cushion", cushion=data.name)
+            elif kind == "jaw":
+                b = balls[i]
+                b.advance(t)
+                dx, dy = b.x - data.center[0], b.y - data.center[1]
+                d = math.hypot(dx, dy)
+                self._collide_cushion(
+                    i, (dx / d, dy / d), "ball_jaw", cushion=data.name, pocket=data.pocket
+                )
+            else:
+                self._pocket(i, data.name)
+        return self._result()
+
+    def _result(self) -> Shot:
+        end = self.now
+        final = {}
+        trajectories = {}
+        for b in self.balls:
+            if b.state != POCKETED:
+                b.advance(end)
+            final[b.name] = BallFinal.model_construct(
+                pos=None if b.state == POCKETED else (b.x, b.y), state=b.state, pocket=b.pocket
+            )
+            trajectories[b.name] = [
+                Segment.model_construct(t=s[0], state=s[1], r=s[2], v=s[3], a=s[4], w=s[5], dw=s[6])
+                for s in b.segments
+            ]
+        return Shot.model_construct(
+            events=self.events,
+            trajectories=trajectories,
+            final=final,
+            duration=end,
+            models=ModelsUsed(
+                ball_ball=self.models.ball_ball,
+                cushion=self.models.cushion,
+                spin=self.spin,
+                cushion_height=self.geometry.spec.cushion_height,
+            ),
+        )
+
+
+def _time(prediction: tuple) -> float:
+    return prediction[0]

@@ -1,0 +1,97 @@
+"""Closed-form ball motion between events (Han 2005, with ERRATA.md items 1-3).
+
+In every state the acceleration and the angular acceleration are constant, so between events
+a ball moves on a parabola and its spin changes linearly:
+
+- sliding: the cloth contact point slips with u = v + R k x w; friction -u_s g u_hat acts on
+  the centre and (5 u_s g / 2R) k x u_hat on the spin. u keeps its direction and shrinks at
+  7/2 u_s g, so the slide ends after 2|u| / (7 u_s g): then the ball rolls.
+- rolling: v decelerates at u_r g along -v_hat, the spin follows (w_xy = k x v / R), and the
+  ball stops after |v| / (u_r g).
+- spinning: in place, only the spin about the vertical is left.
+- about the vertical, in every state: dw_z/dt = -5/2 u_sp g / R until w_z is zero.
+"""
+
+from __future__ import annotations
+
+import math
+
+from physics.params import Params
+
+SLIDING = "sliding"
+ROLLING = "rolling"
+SPINNING = "spinning"
+STATIONARY = "stationary"
+POCKETED = "pocketed"
+
+#: Below these a slip (m/s), a speed (m/s) or a spin about the vertical (rad/s) counts as zero.
+EPS_SLIP = 1e-10
+EPS_SPEED = 1e-10
+EPS_SPIN = 1e-9
+
+
+def spin_decel(p: Params) -> float:
+    """|dw_z/dt| (rad/s^2) from the spin friction u_sp (errata 3)."""
+    return 2.5 * p.u_sp * p.g / p.R
+
+
+def slip(v: tuple[float, float], w: tuple[float, float, float], R: float) -> tuple[float, float]:
+    """Velocity of the cloth contact point: v + R k x w."""
+    return (v[0] - R * w[1], v[1] + R * w[0])
+
+
+def classify(v: tuple[float, float], w: tuple[float, float, float], p: Params) -> str:
+    """The state a ball with this v and w is in."""
+    ux, uy = slip(v, w, p.R)
+    if math.hypot(ux, uy) > EPS_SLIP:
+        return SLIDING
+    if math.hypot(v[0], v[1]) > EPS_SPEED:
+        return ROLLING
+    if abs(w[2]) > EPS_SPIN:
+        return SPINNING
+    return STATIONARY
+
+
+def rolling_spin(v: tuple[float, float], wz: float, R: float) -> tuple[float, float, float]:
+    """The spin of a ball rolling without slip at velocity v."""
+    return (-v[1] / R, v[0] / R, wz)
+
+
+def accelerations(
+    state: str, v: tuple[float, float], w: tuple[float, float, float], p: Params
+) -> tuple[tuple[float, float], tuple[float, float, float]]:
+    """(a, dw/dt) of a ball in `state`; constant until its next event."""
+    wz_rate = -math.copysign(spin_decel(p), w[2]) if abs(w[2]) > EPS_SPIN else 0.0
+    if state == SLIDING:
+        ux, uy = slip(v, w, p.R)
+        s = math.hypot(ux, uy)
+        f = p.u_s * p.g / s
+        k = 2.5 * f / p.R
+        return (-f * ux, -f * uy), (-k * uy, k * ux, wz_rate)
+    if state == ROLLING:
+        s = math.hypot(v[0], v[1])
+        f = p.u_r * p.g / s
+        ax, ay = -f * v[0], -f * v[1]
+        return (ax, ay), (-ay / p.R, ax / p.R, wz_rate)
+    if state == SPINNING:
+        return (0.0, 0.0), (0.0, 0.0, wz_rate)
+    return (0.0, 0.0), (0.0, 0.0, 0.0)
+
+
+def transition_time(
+    state: str, v: tuple[float, float], w: tuple[float, float, float], p: Params
+) -> float:
+    """Time from now until the state changes (inf for a ball at rest)."""
+    if state == SLIDING:
+        ux, uy = slip(v, w, p.R)
+        return 2.0 * math.hypot(ux, uy) / (7.0 * p.u_s * p.g)
+    if state == ROLLING:
+        return math.hypot(v[0], v[1]) / (p.u_r * p.g)
+    if state == SPINNING:
+        return abs(w[2]) / spin_decel(p)
+    return math.inf
+
+
+def spin_stop_time(w: tuple[float, float, float], p: Params) -> float:
+    """Time from now until the spin about the vertical reaches zero."""
+    return abs(w[2]) / spin_decel(p) if abs(w[2]) > EPS_SPIN else math.inf

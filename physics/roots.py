@@ -1,0 +1,172 @@
+"""The earliest time a polynomial distance function reaches zero.
+
+Collision times are the first root of f(t) = |d(t)|^2 - D^2 (a quartic for two balls on
+quadratic paths or a ball and a circle) or of a quadratic (a ball and a straight line). Rather
+than trust a closed-form quartic, which loses roots to cancellation exactly in the hard cases
+(grazing contacts, near-double roots), the interval is split at the roots of f' (found the same
+way, one degree down) into pieces where f is monotone; the first piece on which f falls from
+positive to non-positive holds the earliest root, which a safeguarded Newton iteration then
+pins down to machine precision. No root is missed and none is reported for a pair that only
+moves apart. Pure Python floats: for degree <= 4 this beats numpy's per-call overhead.
+"""
+
+from __future__ import annotations
+
+import math
+
+_NEWTON_ITERS = 60
+
+
+def _horner(c: tuple[float, ...], t: float) -> float:
+    """Evaluate c[0] + c[1] t + c[2] t^2 + ... ."""
+    acc = 0.0
+    for coef in reversed(c):
+        acc = acc * t + coef
+    return acc
+
+
+def _derivative(c: tuple[float, ...]) -> tuple[float, ...]:
+    return tuple(k * c[k] for k in range(1, len(c)))
+
+
+def _quadratic_roots(c0: float, c1: float, c2: float) -> list[float]:
+    """Real roots of c0 + c1 t + c2 t^2, sorted, computed without cancellation."""
+    if c2 == 0.0:
+        return [] if c1 == 0.0 else [-c0 / c1]
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return []
+    q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
+    if q == 0.0:
+        return [0.0]
+    r1, r2 = q / c2, c0 / q
+    return [r1, r2] if r1 <= r2 else [r2, r1]
+
+
+def _refine(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -> float:
+    """The root of a polynomial monotone on [lo, hi] with f(lo) > 0 >= f(hi).
+
+    Newton steps that stay inside the bracket, bisection otherwise; the bracket shrinks on
+    every step, so the loop ends even where Newton would cycle. Returns the bracket's upper
+    end once it cannot shrink further, so the reported time never precedes the contact.
+    """
+    t = hi
+    for _ in range(_NEWTON_ITERS):
+        f = _horner(c, t)
+        if f > 0.0:
+            lo = t
+        else:
+            hi = t
+        if hi - lo <= 4e-16 * max(1.0, hi):
+            break
+        d = _horner(dc, t)
+        step = t - f / d if d != 0.0 else lo - 1.0
+        t = step if lo < step < hi else 0.5 * (lo + hi)
+    return hi
+
+
+def critical_points(c: tuple[float, ...], hi: float) -> list[float]:
+    """Sorted roots of the derivative of `c` strictly inside (0, hi)."""
+    dc = _derivative(c)
+    while len(dc) > 1 and dc[-1] == 0.0:
+        dc = dc[:-1]
+    if len(dc) <= 1:
+        return []
+    if len(dc) == 2:
+        pts = [-dc[0] / dc[1]]
+    elif len(dc) == 3:
+        pts = _quadratic_roots(*dc)
+    else:
+        pts = all_roots(dc, hi)
+    return [p for p in pts if 0.0 < p < hi]
+
+
+def all_roots(c: tuple[float, ...], hi: float) -> list[float]:
+    """Every root of the polynomial `c` in (0, hi), sorted (by recursion on the degree)."""
+    dc = _derivative(c)
+    knots = [0.0, *critical_points(c, hi), hi]
+    roots = []
+    f_prev = _horner(c, 0.0)
+    for a, b in zip(knots, knots[1:], strict=False):
+        f_b = _horner(c, b)
+        if (f_prev > 0.0) != (f_b > 0.0):
+            roots.append(_refine(c, dc, a, b) if f_prev > 0.0 else _refine_neg(c, dc, a, b))
+        f_prev = f_b
+    return roots
+
+
+def _refine_neg(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -> float:
+    """As `_refine`, for a polynomial rising through zero on [lo, hi]."""
+    neg = tuple(-x for x in c)
+    return _refine(neg, tuple(-x for x in dc), lo, hi)
+
+
+def path_misses(
+    px: float, py: float, vx: float, vy: float, ax: float, ay: float, h: float, clearance: float
+) -> bool:
+    """True when p(t) = p + v t + a t^2 / 2 stays farther than `clearance` from the origin
+    for all t in [0, h]: a cheap, conservative test that culls most pairs and circles before
+    any polynomial is formed. The parabola never strays from its chord by more than
+    |a| h^2 / 8, so the distance from the origin to the chord, less that, bounds it below.
+    """
+    cx, cy = (vx + 0.5 * ax * h) * h, (vy + 0.5 * ay * h) * h
+    chord2 = cx * cx + cy * cy
+    s = 0.0
+    if chord2 > 0.0:
+        s = min(1.0, max(0.0, -(px * cx + py * cy) / chord2))
+    sag = 0.125 * math.hypot(ax, ay) * h * h
+    return math.hypot(px + s * cx, py + s * cy) - sag > clearance
+
+
+def first_entry_quadratic(c0: float, c1: float, c2: float, hi: float, skip: float = 0.0):
+    """`first_entry` for a quadratic c0 + c1 t + c2 t^2, in closed form."""
+    if skip > hi:
+        return None
+    if c0 + (c1 + c2 * skip) * skip <= 0.0:
+        return skip
+    for r in _quadratic_roots(c0, c1, c2):
+        if skip <= r <= hi:
+            return r
+    return None
+
+
+def first_entry(c: tuple[float, ...], hi: float, skip: float = 0.0) -> float | None:
+    """The earliest t in [skip, hi] with c(t) <= 0, or None if f stays positive.
+
+    The caller has already dealt with a contact at the present (touching and approaching).
+    `skip` > 0 is for a pair that touches now and is not approaching: it ignores the contact
+    at the present and asks whether the two come together again later.
+    """
+    if skip > hi:
+        return None
+    if _horner(c, skip) <= 0.0:
+        return skip
+    dc = _derivative(c)
+    knots = [skip, *(p for p in critical_points(c, hi) if p > skip), hi]
+    for a, b in zip(knots, knots[1:], strict=False):
+        if _horner(c, b) <= 0.0:
+            return _refine(c, dc, a, b)
+    return None
+
+
+def first_return(c: tuple[float, ...], hi: float, depth: float) -> float | None:
+    """For two things in contact now (c(0) ~ 0) and not approaching: the next contact.
+
+    Either they come apart (c rises above zero) and meet again where c falls back to zero,
+    or they stay pressed together and a contact is due once c sinks `depth` below where it
+    is now (or below zero, if it is above). Float noise at the touching point is neither.
+    """
+    floor = min(c[0], 0.0) - depth
+    dc = _derivative(c)
+    knots = [0.0, *critical_points(c, hi), hi]
+    apart = False
+    for a, b in zip(knots, knots[1:], strict=False):
+        f_b = _horner(c, b)
+        if apart:
+            if f_b <= 0.0:
+                return _refine(c, dc, a, b)
+        elif f_b > 0.0:
+            apart = True
+        elif f_b <= floor:
+            return _refine((c[0] - floor, *c[1:]), dc, a, b)
+    return None

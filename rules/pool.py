@@ -1,0 +1,78 @@
+"""Rules shared by nine-ball and eight-ball (WPA): the contact fouls, the legal break, respots.
+
+A shot is legal when the cue ball stays on the table, first hits a ball the shooter may hit,
+and afterwards some ball is pocketed or some ball (the cue ball included) touches a cushion.
+A break is legal when a ball is pocketed or at least four object balls touch a cushion.
+"""
+
+from __future__ import annotations
+
+from rules.events import ShotFacts
+from rules.spots import POOL_TABLE, Point, place_near
+from rules.state import Decision, Region, State, award, conclude
+
+POCKETS = ("bottom_left", "bottom_right", "middle_left", "middle_right", "top_left", "top_right")
+
+#: Balls to a cushion that make a break legal when nothing is pocketed.
+BREAK_CUSHION_BALLS = 4
+
+
+def contact_fouls(facts: ShotFacts, targets: set[str], wanted: str, rail: bool) -> list[str]:
+    """The fouls of an ordinary shot: scratch, no contact, wrong ball first, no rail.
+
+    `wanted` names the legal first ball(s) for the reason ("the 3", "one of the solids");
+    `rail` is False on the break, where the legal-break rule replaces the rail rule.
+    """
+    fouls = []
+    if facts.cue_pocketed:
+        fouls.append("cue ball pocketed (scratch)")
+    if facts.first_hit is None:
+        fouls.append("cue ball hit no ball")
+    elif facts.first_hit not in targets:
+        fouls.append(f"cue ball did not hit {wanted} first (hit the {facts.first_hit})")
+    elif rail and not facts.pocketed and not facts.cushion_after_contact:
+        fouls.append("no ball was pocketed and no ball reached a cushion after contact")
+    return fouls
+
+
+def break_fouls(facts: ShotFacts) -> list[str]:
+    if facts.pocketed or len(facts.cushioned) >= BREAK_CUSHION_BALLS:
+        return []
+    return [
+        f"illegal break: no ball pocketed and only {len(facts.cushioned)} object balls "
+        f"reached a cushion (at least {BREAK_CUSHION_BALLS} needed)"
+    ]
+
+
+def respot_on_foot_spot(positions: dict[str, Point]) -> Point:
+    """Where a respotted ball goes: the foot spot, else frozen behind it on the long string
+    toward the top cushion, else in front of it toward the head (WPA)."""
+    return place_near(POOL_TABLE.foot_spot, ((0.0, 1.0), (0.0, -1.0)), positions, POOL_TABLE)
+
+
+def conclude_rack(
+    state: State,
+    facts: ShotFacts,
+    balls: dict[str, Point],
+    verdict: tuple[int, Region | None, int | None],
+    fouls: list[str],
+    respotted: dict[str, Point],
+    notes: list[str],
+    **fields,
+) -> tuple[State, Decision]:
+    """`conclude` for a pool rack: `balls` after respots; verdict: (next player, ball in hand,
+    winner), the winner scoring the rack; `fields`: other State fields the shot changed."""
+    nxt, bih, winner = verdict
+    return conclude(
+        state,
+        balls=balls,
+        next_player=nxt,
+        fouls=fouls,
+        points=award(winner, 1) if winner is not None else (0, 0),
+        pocketed=tuple(facts.pocketed),
+        respotted=respotted,
+        notes=notes,
+        ball_in_hand=bih,
+        winner=winner,
+        **fields,
+    )

@@ -1,0 +1,51 @@
+"""The aiohttp application of the billiards server: `create_app(settings)`.
+
+For now it mounts the relay (`server.relay`). Its backend follows the settings: in memory by
+default (one process), Redis Streams when a Redis URL is given (several replicas).
+"""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+
+from aiohttp import web
+from pydantic import BaseModel, ConfigDict, Field
+
+from server.relay.backend import Backend
+from server.relay.memory import MemoryBackend
+from server.relay.relay import Relay
+from server.relay.routes import mount_relay
+from server.relay.settings import RelaySettings
+
+
+class AppSettings(BaseModel):
+    """The server's configuration, immutable and passed in."""
+
+    model_config = ConfigDict(frozen=True)
+
+    relay: RelaySettings = Field(default_factory=RelaySettings)
+    redis_url: str | None = Field(default=None, description="Redis backend; None: in memory")
+
+
+def make_backend(settings: AppSettings) -> Backend:
+    """The relay backend the settings ask for (Redis is imported only when asked for)."""
+    if settings.redis_url is None:
+        return MemoryBackend(settings.relay.buffer)
+    from server.relay.redis_backend import RedisBackend
+
+    return RedisBackend(settings.relay.buffer, settings.redis_url)
+
+
+def create_app(settings: AppSettings | None = None) -> web.Application:
+    """The application, its relay backend created on startup and closed on cleanup."""
+    settings = settings or AppSettings()
+    app = web.Application()
+    backend = make_backend(settings)
+    mount_relay(app, Relay.build(backend, settings.relay))
+
+    async def backend_lifetime(app: web.Application) -> AsyncIterator[None]:
+        yield
+        await backend.close()
+
+    app.cleanup_ctx.append(backend_lifetime)
+    return app

@@ -1,0 +1,119 @@
+"""The in-memory backend: the embedded default for one server process.
+
+Each channel is a deque bounded by the buffer length; expired messages are dropped lazily when
+the channel is next touched. `publish` fans out directly, so the "feed" of the interface is the
+publish call itself.
+"""
+
+from __future__ import annotations
+
+import time
+from collections import deque
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from server.relay.backend import Backend, BackendConfig
+from server.relay.ids import MessageKey, format_message_id, parse_message_id
+from server.relay.messages import DELETED, Backlog, ChannelInfo, Published, StoredMessage
+
+
+@dataclass
+class _Channel:
+    messages: deque[StoredMessage] = field(default_factory=deque)
+    last_key: MessageKey | None = None
+    evicted_key: MessageKey | None = None
+    requested_at: float | None = None
+
+
+class MemoryBackend(Backend):
+    """Channels in this process's memory; `clock` (unix seconds) is injectable for tests."""
+
+    def __init__(self, config: BackendConfig, clock: Callable[[], float] = time.time) -> None:
+        super().__init__(config)
+        self._clock = clock
+        self._channels: dict[str, _Channel] = {}
+
+    def _expire(self, state: _Channel, now: float) -> None:
+        oldest_allowed = now - self.config.message_ttl
+        messages = state.messages
+        while messages and (
+            len(messages) > self.config.buffer_length or messages[0].time < oldest_allowed
+        ):
+            state.evicted_key = messages.popleft().key
+
+    async def publish(self, channel: str, data: bytes, content_type: str) -> Published:
+        now = self._clock()
+        state = self._channels.setdefault(channel, _Channel())
+        seconds = int(now)
+        if state.last_key is None or seconds > state.last_key[0]:
+            key = (seconds, 0)
+        else:  # same second, or the clock stepped back: stay after the previous id
+            key = (state.last_key[0], state.last_key[1] + 1)
+        message = StoredMessage(
+            channel=channel,
+            id=format_message_id(key),
+            content_type=content_type,
+            data=data,
+            time=now,
+        )
+        state.last_key = key
+        state.messages.append(message)
+        self._expire(state, now)
+        subscribers = self.local_subscribers(channel)
+        self._fan_out(channel, message)
+        return Published(
+            message=message,
+            info=self._info(state, now, subscribers),
+            had_subscribers=subscribers > 0,
+        )
+
+    async def read_since(self, channel: str, last_id: str | None) -> Backlog:
+        state = self._channels.get(channel)
+        after = parse_message_id(last_id) if last_id is not None else None
+        if state is None:
+            return Backlog(messages=[], gap=False)
+        now = self._clock()
+        state.requested_at = now
+        self._expire(state, now)
+        if after is None:
+            return Backlog(messages=list(state.messages), gap=False)
+        newer = [message for message in state.messages if message.key > after]
+        gap = state.evicted_key is not None and state.evicted_key > after
+        return Backlog(messages=newer, gap=gap)
+
+    def _info(self, state: _Channel, now: float, subscribers: int) -> ChannelInfo:
+        requested = -1 if state.requested_at is None else int(now - state.requested_at)
+        last = None if state.last_key is None else format_message_id(state.last_key)
+        return ChannelInfo(
+            messages=len(state.messages),
+            requested=requested,
+            subscribers=subscribers,
+            last_message_id=last,
+        )
+
+    async def info(self, channel: str) -> ChannelInfo | None:
+        subscribers = self.local_subscribers(channel)
+        state = self._channels.get(channel)
+        if state is None:
+            state = _Channel() if subscribers else None
+        if state is None:
+            return None
+        now = self._clock()
+        self._expire(state, now)
+        if not state.messages and not subscribers:
+            return None
+        return self._info(state, now, subscribers)
+
+    async def _open_feed(self, channel: str) -> None:
+        """Nothing to start: `publish` fans out itself, in this process."""
+
+    async def _close_feed(self, channel: str) -> None:
+        """Nothing to stop (see `_open_feed`)."""
+
+    async def _subscribers_changed(self, channel: str, delta: int) -> None:
+        """Nothing to record: the local count is the global one in a single process."""
+
+    async def delete(self, channel: str) -> bool:
+        state = self._channels.pop(channel, None)
+        closed = await self._end_local(channel, DELETED)
+        return state is not None or closed > 0

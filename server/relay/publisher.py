@@ -1,0 +1,75 @@
+"""The publisher endpoint `/pub/{channel}`, with nchan's methods and status codes.
+
+- POST publishes the body (JSON or msgpack by Content-Type) and answers the channel info:
+  201 when subscribers were present, 202 when none were.
+- GET answers the channel info (text, or JSON by Accept), 404 for an unknown channel.
+- DELETE removes the channel and closes its subscribers: 200 with its last info, 404 if unknown.
+"""
+
+from __future__ import annotations
+
+from aiohttp import web
+
+from server.relay.errors import RelayError
+from server.relay.frames import info_body, wants_json
+from server.relay.http import bearer_token, error_response, relay_of
+from server.relay.messages import ChannelInfo
+from server.relay.relay import check_channel
+
+
+def _info_response(request: web.Request, info: ChannelInfo, status: int) -> web.Response:
+    content_type, body = info_body(info, wants_json(request.headers.get("Accept")))
+    return web.Response(status=status, text=body, content_type=content_type)
+
+
+async def _read_limited(request: web.Request, limit: int) -> bytes:
+    """The body, or RelayError(413) as soon as it is longer than `limit` (not read further)."""
+    if request.content_length is not None and request.content_length > limit:
+        raise RelayError(413, f"message of {request.content_length} bytes exceeds {limit}")
+    chunks, size = [], 0
+    async for chunk in request.content.iter_chunked(64 * 1024):
+        size += len(chunk)
+        if size > limit:
+            raise RelayError(413, f"message exceeds the {limit}-byte limit")
+        chunks.append(chunk)
+    return b"".join(chunks)
+
+
+async def publish(request: web.Request) -> web.Response:
+    relay = relay_of(request)
+    channel = request.match_info["channel"]
+    try:
+        relay.admit(channel, bearer_token(request))
+        data = await _read_limited(request, relay.settings.max_message_bytes)
+        message = relay.validate(request.headers.get("Content-Type"), data)
+    except RelayError as error:
+        return error_response(error)
+    published = await relay.backend.publish(channel, message.data, message.content_type)
+    return _info_response(request, published.info, 201 if published.had_subscribers else 202)
+
+
+async def channel_info(request: web.Request) -> web.Response:
+    relay = relay_of(request)
+    try:
+        channel = check_channel(request.match_info["channel"])
+    except RelayError as error:
+        return error_response(error)
+    info = await relay.backend.info(channel)
+    if info is None:
+        return error_response(RelayError(404, f"no channel {channel!r}"))
+    return _info_response(request, info, 200)
+
+
+async def delete_channel(request: web.Request) -> web.Response:
+    relay = relay_of(request)
+    channel = request.match_info["channel"]
+    try:
+        relay.admit(channel, bearer_token(request))
+    except RelayError as error:
+        return error_response(error)
+    info = await relay.backend.info(channel)
+    if not await relay.backend.delete(channel):
+        return error_response(RelayError(404, f"no channel {channel!r}"))
+    if info is None:  # it existed but its messages had expired
+        info = ChannelInfo(messages=0, requested=-1, subscribers=0, last_message_id=None)
+    return _info_response(request, info, 200)

@@ -1,0 +1,400 @@
+"""The Redis backend: channels in Redis Streams, shared by every server replica.
+
+Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluster slot):
+
+- `relay:{c}:stream`  the message buffer, a stream whose entry ids are `<unix seconds>-<tag>`,
+  i.e. nchan's `<unix seconds>:<tag>` with a dash. Redis generates the tag (`XADD key <s>-*`),
+  so ids increase within a channel and need no mapping table.
+- `relay:{c}:meta`    hash: `last` id ever published, newest `evicted` id (for gap notices),
+  `requested` time of the last read.
+- `relay:{c}:subs`    hash: replica id -> its local subscriber count.
+- `relay:{c}:ctl`     a short stream of control events (deletion) that outlives the channel.
+- `relay:replicas`    sorted set: replica id -> Redis time of its last heartbeat; counts of
+  replicas silent for `ALIVE_S` are ignored, so a crashed replica's subscribers stop counting.
+
+Every state change is one Lua script, so it is atomic and uses Redis' clock (one clock for all
+replicas). With `appendonly yes` and `appendfsync always` (docker-compose.yml, the test
+fixture) a publish that was answered is on disk, and survives a Redis restart.
+
+Fan-out: each replica runs one reader task per channel that has local subscribers. It blocks
+in `XREAD` on the channel's stream and control stream and hands each new message to every local
+subscriber (`Backend._fan_out`), so Redis is read once per message per replica, never once per
+subscriber. After a Redis restart the reader reconnects and goes on from the last id it saw.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import uuid
+from typing import Any
+
+import redis.asyncio as aioredis
+from redis.asyncio.retry import Retry
+from redis.backoff import NoBackoff
+from redis.exceptions import ConnectionError as RedisConnectionError
+from redis.exceptions import TimeoutError as RedisTimeoutError
+
+from server.relay.backend import Backend, BackendConfig
+from server.relay.ids import parse_message_id
+from server.relay.messages import Backlog, ChannelInfo, Published, StoredMessage
+
+log = logging.getLogger(__name__)
+
+REPLICAS_KEY = "relay:replicas"
+HEARTBEAT_S = 5.0
+ALIVE_S = 15.0
+IDLE_KEY_S = 86400  # a channel's keys outlive its last message by this long
+READ_BLOCK_MS = 2000
+READ_BATCH = 512
+RECONNECT_MAX_S = 1.0
+_REDIS_DOWN = (RedisConnectionError, RedisTimeoutError, OSError)
+
+# Shared Lua helpers, prepended to the scripts below.
+_LUA_HELPERS = """
+local function clock()
+  local t = redis.call('TIME')
+  return tonumber(t[1]) + tonumber(t[2]) / 1e6, tonumber(t[1])
+end
+
+-- Drop entries beyond the buffer length, then those older than `cutoff`; remember the newest
+-- dropped id in meta.evicted so that a resume from before it is told about the gap.
+local function evict(stream, meta, maxlen, cutoff)
+  local evicted = nil
+  local excess = redis.call('XLEN', stream) - maxlen
+  if excess > 0 then
+    local gone = redis.call('XRANGE', stream, '-', '+', 'COUNT', excess)
+    evicted = gone[#gone][1]
+    redis.call('XTRIM', stream, 'MAXLEN', maxlen)
+  end
+  while true do
+    local first = redis.call('XRANGE', stream, '-', '+', 'COUNT', 1)[1]
+    if first == nil or tonumber(first[2][2]) >= cutoff then break end
+    redis.call('XDEL', stream, first[1])
+    evicted = first[1]
+  end
+  if evicted then redis.call('HSET', meta, 'evicted', evicted) end
+end
+
+-- Subscribers of all replicas that sent a heartbeat within `alive` seconds.
+local function subscribers(subs, replicas, now, alive)
+  local total = 0
+  local counts = redis.call('HGETALL', subs)
+  for i = 1, #counts, 2 do
+    local seen = redis.call('ZSCORE', replicas, counts[i])
+    if seen and tonumber(seen) >= now - alive then total = total + tonumber(counts[i + 1]) end
+  end
+  return total
+end
+"""
+
+# KEYS: stream meta subs replicas; ARGV: maxlen ttl alive idle_s content_type data
+_PUBLISH = (
+    _LUA_HELPERS
+    + """
+local now, seconds = clock()
+local last = redis.call('HGET', KEYS[2], 'last')
+if last then
+  local last_seconds = tonumber(string.match(last, '^(%d+)-'))
+  if last_seconds > seconds then seconds = last_seconds end
+end
+local id = redis.call('XADD', KEYS[1], seconds .. '-*',
+  't', string.format('%.6f', now), 'c', ARGV[5], 'd', ARGV[6])
+redis.call('HSET', KEYS[2], 'last', id)
+evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
+redis.call('EXPIRE', KEYS[1], ARGV[4])
+redis.call('EXPIRE', KEYS[2], ARGV[4])
+local requested = redis.call('HGET', KEYS[2], 'requested') or ''
+return {id, string.format('%.6f', now), redis.call('XLEN', KEYS[1]), requested,
+  subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[3]))}
+"""
+)
+
+# KEYS: stream meta; ARGV: maxlen ttl start(XRANGE bound)
+_READ_SINCE = (
+    _LUA_HELPERS
+    + """
+if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false} end
+local now = clock()
+redis.call('HSET', KEYS[2], 'requested', string.format('%.6f', now))
+evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
+return {redis.call('XRANGE', KEYS[1], ARGV[3], '+'), redis.call('HGET', KEYS[2], 'evicted')}
+"""
+)
+
+# KEYS: stream meta subs replicas; ARGV: maxlen ttl alive
+_INFO = (
+    _LUA_HELPERS
+    + """
+local now = clock()
+evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
+local messages = redis.call('XLEN', KEYS[1])
+local subs = subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[3]))
+if messages == 0 and subs == 0 then return false end
+local meta = redis.call('HMGET', KEYS[2], 'last', 'requested')
+return {messages, meta[2] or '', subs, meta[1] or '', string.format('%.6f', now)}
+"""
+)
+
+# KEYS: stream meta subs replicas ctl; ARGV: alive idle_s
+_DELETE = (
+    _LUA_HELPERS
+    + """
+local now = clock()
+local subs = subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[1]))
+local existed = redis.call('DEL', KEYS[1], KEYS[2]) > 0 or subs > 0
+redis.call('DEL', KEYS[3])
+redis.call('XADD', KEYS[5], 'MAXLEN', '~', 16, '*', 'deleted', '1')
+redis.call('EXPIRE', KEYS[5], ARGV[2])
+return existed and 1 or 0
+"""
+)
+
+# KEYS: subs replicas; ARGV: replica delta idle_s
+_COUNT = """
+local t = redis.call('TIME')
+redis.call('ZADD', KEYS[2], tonumber(t[1]) + tonumber(t[2]) / 1e6, ARGV[1])
+if redis.call('HINCRBY', KEYS[1], ARGV[1], ARGV[2]) <= 0 then
+  redis.call('HDEL', KEYS[1], ARGV[1])
+end
+redis.call('EXPIRE', KEYS[1], ARGV[3])
+"""
+
+# KEYS: replicas; ARGV: replica
+_HEARTBEAT = """
+local t = redis.call('TIME')
+local now = tonumber(t[1]) + tonumber(t[2]) / 1e6
+redis.call('ZADD', KEYS[1], now, ARGV[1])
+redis.call('ZREMRANGEBYSCORE', KEYS[1], '-inf', now - 3600)
+"""
+
+
+def _cancelled() -> bool:
+    """True once this task was asked to stop: redis-py sometimes turns the CancelledError of
+    a command in progress into a connection error, so loops check this rather than trust it."""
+    task = asyncio.current_task()
+    return task is not None and task.cancelling() > 0
+
+
+def _keys(channel: str) -> dict[str, str]:
+    prefix = f"relay:{{{channel}}}:"
+    return {part: prefix + part for part in ("stream", "meta", "subs", "ctl")}
+
+
+def _to_message_id(stream_id: bytes) -> str:
+    return stream_id.decode().replace("-", ":")
+
+
+def _to_stream_id(message_id: str) -> str:
+    seconds, tag = parse_message_id(message_id)
+    return f"{seconds}-{tag}"
+
+
+def _stored(
+    channel: str, stream_id: bytes, fields: dict[bytes, bytes] | list[bytes]
+) -> StoredMessage:
+    """A StoredMessage from a stream entry (a dict from redis-py, a flat list from Lua)."""
+    if isinstance(fields, list):
+        fields = dict(zip(fields[::2], fields[1::2], strict=True))
+    return StoredMessage(
+        channel=channel,
+        id=_to_message_id(stream_id),
+        content_type=fields[b"c"].decode(),
+        data=fields[b"d"],
+        time=float(fields[b"t"]),
+    )
+
+
+def _info(reply: list[Any]) -> ChannelInfo:
+    messages, requested, subscribers, last, now = reply
+    return ChannelInfo(
+        messages=int(messages),
+        requested=-1 if not requested else int(float(now) - float(requested)),
+        subscribers=int(subscribers),
+        last_message_id=_to_message_id(last) if last else None,
+    )
+
+
+class RedisBackend(Backend):
+    """Channels in Redis Streams; any number of replicas may share one Redis."""
+
+    def __init__(self, config: BackendConfig, url: str) -> None:
+        super().__init__(config)
+        self.replica = uuid.uuid4().hex
+        # One retry: a pooled connection left dead by a Redis restart fails once, then a fresh
+        # one is used. More retries could publish twice when only the answer was lost.
+        self._redis = aioredis.from_url(url, retry=Retry(NoBackoff(), 1))
+        # Readers block in XREAD, each on its own connection of this pool.
+        self._readers_redis = aioredis.from_url(url, retry=Retry(NoBackoff(), 0))
+        self._publish = self._redis.register_script(_PUBLISH)
+        self._read_since = self._redis.register_script(_READ_SINCE)
+        self._info_script = self._redis.register_script(_INFO)
+        self._delete = self._redis.register_script(_DELETE)
+        self._count = self._redis.register_script(_COUNT)
+        self._heartbeat_script = self._redis.register_script(_HEARTBEAT)
+        self._readers: dict[str, asyncio.Task[None]] = {}
+        self._heartbeat: asyncio.Task[None] | None = None
+        self._unsynced: set[str] = set()
+        self._stopping: set[asyncio.Task[None]] = set()
+
+    @property
+    def _bounds(self) -> list[Any]:
+        return [self.config.buffer_length, self.config.message_ttl]
+
+    async def publish(self, channel: str, data: bytes, content_type: str) -> Published:
+        keys = _keys(channel)
+        reply = await self._publish(
+            keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY],
+            args=[*self._bounds, ALIVE_S, IDLE_KEY_S, content_type, data],
+        )
+        stream_id, now, messages, requested, subscribers = reply
+        message = StoredMessage(
+            channel=channel,
+            id=_to_message_id(stream_id),
+            content_type=content_type,
+            data=data,
+            time=float(now),
+        )
+        info = _info([messages, requested, subscribers, stream_id, now])
+        # Local subscribers get it from this replica's reader, like everyone else's.
+        return Published(message=message, info=info, had_subscribers=info.subscribers > 0)
+
+    async def read_since(self, channel: str, last_id: str | None) -> Backlog:
+        start = "-" if last_id is None else "(" + _to_stream_id(last_id)
+        keys = _keys(channel)
+        entries, evicted = await self._read_since(
+            keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start]
+        )
+        messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries]
+        gap = (
+            last_id is not None
+            and bool(evicted)
+            and parse_message_id(_to_message_id(evicted)) > parse_message_id(last_id)
+        )
+        return Backlog(messages=messages, gap=gap)
+
+    async def info(self, channel: str) -> ChannelInfo | None:
+        keys = _keys(channel)
+        reply = await self._info_script(
+            keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY],
+            args=[*self._bounds, ALIVE_S],
+        )
+        return None if reply is None else _info(reply)
+
+    async def delete(self, channel: str) -> bool:
+        keys = _keys(channel)
+        existed = await self._delete(
+            keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY, keys["ctl"]],
+            args=[ALIVE_S, IDLE_KEY_S],
+        )
+        # Local subscribers now; other replicas' readers see the control event.
+        closed = await self._end_local(channel, "deleted")
+        return bool(existed) or closed > 0
+
+    async def close(self) -> None:
+        """Close local subscriptions, withdraw this replica's counts, release connections."""
+        channels = list(self._local)
+        await super().close()
+        if self._heartbeat is not None:
+            self._heartbeat.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await self._heartbeat
+        with contextlib.suppress(*_REDIS_DOWN):
+            async with self._redis.pipeline(transaction=False) as pipe:
+                for channel in channels:
+                    pipe.hdel(_keys(channel)["subs"], self.replica)
+                pipe.zrem(REPLICAS_KEY, self.replica)
+                await pipe.execute()
+        # Unblock the readers still in XREAD by closing their connections, then let them end.
+        await self._readers_redis.connection_pool.disconnect()
+        await asyncio.gather(*self._stopping, return_exceptions=True)
+        await self._readers_redis.aclose()
+        await self._redis.aclose()
+
+    # ----- per-channel feed ------------------------------------------------------------------
+    async def _open_feed(self, channel: str) -> None:
+        keys = _keys(channel)
+        async with self._redis.pipeline(transaction=True) as pipe:
+            pipe.xrevrange(keys["stream"], count=1)
+            pipe.xrevrange(keys["ctl"], count=1)
+            newest, control = await pipe.execute()
+        positions = {
+            keys["stream"]: newest[0][0] if newest else b"0-0",
+            keys["ctl"]: control[0][0] if control else b"0-0",
+        }
+        self._readers[channel] = asyncio.create_task(
+            self._read_feed(channel, positions), name=f"relay-reader-{channel}"
+        )
+
+    async def _close_feed(self, channel: str) -> None:
+        """Cancel the reader without waiting: it may finish its current XREAD (at most
+        READ_BLOCK_MS) but fans out nothing more; `close` waits for the stragglers."""
+        reader = self._readers.pop(channel, None)
+        if reader is not None and reader is not asyncio.current_task():
+            reader.cancel()
+            self._stopping.add(reader)
+            reader.add_done_callback(self._stopping.discard)
+
+    async def _read_feed(self, channel: str, positions: dict[str, bytes]) -> None:
+        """The channel's reader: fan out new messages until cancelled or the channel is deleted."""
+        stream_key = _keys(channel)["stream"]
+        delay = 0.05
+        while not _cancelled():
+            try:
+                reply = await self._readers_redis.xread(
+                    positions, count=READ_BATCH, block=READ_BLOCK_MS
+                )
+            except _REDIS_DOWN as error:
+                if _cancelled():
+                    break
+                log.warning("relay reader for %s: Redis unavailable (%s), retrying", channel, error)
+                await asyncio.sleep(delay)
+                delay = min(delay * 2, RECONNECT_MAX_S)
+                continue
+            delay = 0.05
+            if _cancelled():
+                break
+            for key, entries in reply:
+                key = key.decode()
+                positions[key] = entries[-1][0]
+                if key != stream_key:
+                    await self._deleted_elsewhere(channel)
+                    return
+                for stream_id, fields in entries:
+                    self._fan_out(channel, _stored(channel, stream_id, fields))
+
+    async def _deleted_elsewhere(self, channel: str) -> None:
+        with contextlib.suppress(*_REDIS_DOWN):
+            await self._redis.hdel(_keys(channel)["subs"], self.replica)
+        await self._end_local(channel, "deleted")
+
+    # ----- global subscriber counts ----------------------------------------------------------
+    async def _subscribers_changed(self, channel: str, delta: int) -> None:
+        if self._heartbeat is None:
+            self._heartbeat = asyncio.create_task(self._beat(), name="relay-heartbeat")
+        try:
+            await self._count(
+                keys=[_keys(channel)["subs"], REPLICAS_KEY],
+                args=[self.replica, delta, IDLE_KEY_S],
+            )
+        except _REDIS_DOWN:
+            if delta > 0:
+                raise  # the subscription fails as a whole and is not counted
+            self._unsynced.add(channel)  # a departure must not fail: the heartbeat repairs it
+
+    async def _beat(self) -> None:
+        """Keep this replica counted as alive, and repair counts that could not be lowered."""
+        while not _cancelled():
+            await asyncio.sleep(HEARTBEAT_S)
+            try:
+                await self._heartbeat_script(keys=[REPLICAS_KEY], args=[self.replica])
+                for channel in list(self._unsynced):
+                    subs_key, subscribers = _keys(channel)["subs"], self.local_subscribers(channel)
+                    if subscribers:
+                        await self._redis.hset(subs_key, self.replica, subscribers)
+                    else:
+                        await self._redis.hdel(subs_key, self.replica)
+                    self._unsynced.discard(channel)
+            except _REDIS_DOWN as error:
+                log.warning("relay heartbeat: Redis unavailable (%s)", error)

@@ -1,0 +1,78 @@
+"""The relay's shared state and the one publish path used by HTTP and WebSocket publishers.
+
+Checks run cheapest first and before anything is stored, so a refused publish changes nothing:
+channel id, token, rate, size, content type, then the body itself.
+"""
+
+from __future__ import annotations
+
+import secrets
+from dataclasses import dataclass
+
+from pydantic import ValidationError
+
+from server.relay.auth import TokenAuthority, TokenClaims
+from server.relay.backend import Backend
+from server.relay.errors import RelayError
+from server.relay.ids import is_channel_id
+from server.relay.limits import RateLimiter
+from server.relay.messages import Published
+from server.relay.payloads import ACCEPTED_TYPES, IncomingMessage, media_type
+from server.relay.settings import RelaySettings
+
+
+def check_channel(channel: str) -> str:
+    """`channel` if it is a valid id; RelayError(400) otherwise."""
+    if not is_channel_id(channel):
+        raise RelayError(400, "channel ids are 1 to 64 letters, digits, '_' or '-'")
+    return channel
+
+
+@dataclass
+class Relay:
+    """Everything a transport needs: the backend, the settings, tokens and rate limits."""
+
+    backend: Backend
+    settings: RelaySettings
+    authority: TokenAuthority
+    limiter: RateLimiter
+
+    @classmethod
+    def build(cls, backend: Backend, settings: RelaySettings) -> Relay:
+        secret = settings.auth_secret or secrets.token_hex(32)
+        return cls(
+            backend=backend,
+            settings=settings,
+            authority=TokenAuthority(secret.encode(), settings.public_prefix),
+            limiter=RateLimiter(settings.publish_rate, settings.publish_burst),
+        )
+
+    def admit(self, channel: str, token: str | None) -> TokenClaims:
+        """Check the right to publish on `channel` and take one from the rate budget."""
+        check_channel(channel)
+        claims = self.authority.authorize_publish(token, channel)
+        wait = self.limiter.allow(claims.sub)
+        if wait > 0:
+            raise RelayError(429, f"publishing too fast: retry in {wait:.3f} s")
+        return claims
+
+    def validate(self, content_type: str | None, data: bytes) -> IncomingMessage:
+        """The message if its size, type and body are acceptable; RelayError otherwise."""
+        limit = self.settings.max_message_bytes
+        if len(data) > limit:
+            raise RelayError(413, f"message of {len(data)} bytes exceeds the {limit}-byte limit")
+        if media_type(content_type) not in ACCEPTED_TYPES:
+            accepted = " or ".join(ACCEPTED_TYPES)
+            raise RelayError(415, f"unsupported content type {content_type!r}: send {accepted}")
+        try:
+            return IncomingMessage(content_type=content_type or "", data=data)
+        except ValidationError as error:
+            raise RelayError(400, error.errors()[0]["msg"]) from None
+
+    async def publish(
+        self, channel: str, token: str | None, content_type: str | None, data: bytes
+    ) -> Published:
+        """Admit, validate and publish one message."""
+        self.admit(channel, token)
+        message = self.validate(content_type, data)
+        return await self.backend.publish(channel, message.data, message.content_type)

@@ -1,0 +1,25 @@
+"""Mounting the relay on an aiohttp application."""
+
+from __future__ import annotations
+
+from aiohttp import web
+
+from server.relay.http import RELAY_KEY
+from server.relay.openapi import openapi_document
+from server.relay.publisher import channel_info, delete_channel, publish
+from server.relay.relay import Relay
+from server.relay.subscriber import subscribe
+
+
+async def _openapi(request: web.Request) -> web.Response:
+    return web.json_response(openapi_document())
+
+
+def mount_relay(app: web.Application, relay: Relay) -> None:
+    """Add `/pub/{channel}`, `/sub/{channels}` and `/openapi.json` to `app`."""
+    app[RELAY_KEY] = relay
+    app.router.add_post("/pub/{channel}", publish)
+    app.router.add_get("/pub/{channel}", channel_info, allow_head=False)
+    app.router.add_delete("/pub/{channel}", delete_channel)
+    app.router.add_get("/sub/{channels}", subscribe, allow_head=False)
+    app.router.add_get("/openapi.json", _openapi)

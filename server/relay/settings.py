@@ -1,0 +1,35 @@
+"""The relay's configuration: one immutable pydantic model, passed in (never module globals)."""
+
+from __future__ import annotations
+
+from pydantic import BaseModel, ConfigDict, Field
+
+from server.relay.backend import BackendConfig, Start
+
+
+class RelaySettings(BaseModel):
+    """Every knob of the relay, with nchan-like defaults where nchan has one."""
+
+    model_config = ConfigDict(frozen=True)
+
+    buffer: BackendConfig = Field(default_factory=BackendConfig)
+    max_message_bytes: int = Field(default=64 * 1024, ge=1, description="larger bodies: 413")
+    send_queue_length: int = Field(
+        default=1024, ge=1, description="events queued per connection before it is closed"
+    )
+    publish_rate: float = Field(default=50.0, gt=0, description="publishes/s per publisher")
+    publish_burst: int = Field(default=100, ge=1, description="publishes allowed at once")
+    auth_secret: str | None = Field(
+        default=None,
+        min_length=16,
+        description="HMAC key for publish tokens; None: a random key per process",
+    )
+    public_prefix: str = Field(
+        default="public-", description="channels read-only for clients (server tokens only)"
+    )
+    first_message: Start = Field(default=Start.OLDEST, description="start without a last id")
+    longpoll_timeout: float = Field(default=60.0, gt=0, description="seconds before 408")
+    max_multiplex: int = Field(default=8, ge=1, description="channels per subscriber request")
+    keepalive: float | None = Field(
+        default=30.0, description="s between WebSocket pings, SSE comments"
+    )

@@ -1,0 +1,89 @@
+"""Pieces with no I/O: cursors, the rate limiter, tokens, and the memory backend's clock."""
+
+from __future__ import annotations
+
+import pytest
+
+from server.relay.auth import AuthError, TokenAuthority
+from server.relay.backend import BackendConfig
+from server.relay.cursor import Cursor
+from server.relay.limits import RateLimiter
+from server.relay.memory import MemoryBackend
+
+
+class FakeClock:
+    def __init__(self, now: float = 1_700_000_000.0) -> None:
+        self.now = now
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def test_cursor_round_trip_over_several_channels() -> None:
+    cursor = Cursor(["a", "b"])
+    assert cursor.advance("a", "10:0") == "a/10:0"
+    assert cursor.advance("b", "10:1") == "b/10:1,a/10:0"
+    resumed = Cursor.parse(["a", "b"], cursor.text("a"))
+    assert resumed.positions == {"a": "10:0", "b": "10:1"}
+
+
+@pytest.mark.parametrize("text", ["c/10:0", "a/10", "a:10:0", "a/x:1"])
+def test_cursor_rejects_entries_it_cannot_resume(text: str) -> None:
+    with pytest.raises(ValueError):
+        Cursor.parse(["a", "b"], text)
+
+
+def test_rate_limiter_refills_at_its_rate() -> None:
+    clock = FakeClock(0.0)
+    limiter = RateLimiter(rate=2.0, burst=3, clock=clock)
+    assert [limiter.allow("p") for _ in range(3)] == [0.0, 0.0, 0.0]
+    assert limiter.allow("p") == pytest.approx(0.5)
+    assert limiter.allow("q") == 0.0  # budgets are per publisher
+    clock.now = 0.5
+    assert limiter.allow("p") == 0.0
+    assert limiter.allow("p") > 0.0
+
+
+def test_tokens_expire_and_cannot_be_altered() -> None:
+    clock = FakeClock()
+    authority = TokenAuthority(b"k" * 32, "public-", clock=clock)
+    token = authority.issue("alice", ["g1"], ttl=60)
+    assert authority.authorize_publish(token, "g1").sub == "alice"
+    with pytest.raises(AuthError) as refused:
+        authority.authorize_publish(token, "g2")
+    assert refused.value.status == 403
+    clock.now += 61
+    with pytest.raises(AuthError) as expired:
+        authority.verify(token)
+    assert expired.value.status == 401
+    assert "expired" in expired.value.reason
+
+
+async def test_memory_ids_stay_increasing_when_the_clock_steps_back() -> None:
+    clock = FakeClock(1000.5)
+    backend = MemoryBackend(BackendConfig(), clock=clock)
+    first = await backend.publish("c", b"1", "application/json")
+    clock.now = 990.0
+    second = await backend.publish("c", b"2", "application/json")
+    clock.now = 1001.0
+    third = await backend.publish("c", b"3", "application/json")
+    assert [first.message.id, second.message.id, third.message.id] == [
+        "1000:0",
+        "1000:1",
+        "1001:0",
+    ]
+
+
+async def test_memory_ttl_expiry_is_a_gap_only_for_what_was_missed() -> None:
+    clock = FakeClock(1000.0)
+    backend = MemoryBackend(BackendConfig(message_ttl=10), clock=clock)
+    a = (await backend.publish("c", b"1", "application/json")).message
+    clock.now = 1005.0
+    b = (await backend.publish("c", b"2", "application/json")).message
+    clock.now = 1012.0  # a has expired, b has not
+    backlog = await backend.read_since("c", a.id)
+    assert (backlog.gap, [m.id for m in backlog.messages]) == (False, [b.id])
+    backlog = await backend.read_since("c", "999:0")
+    assert (backlog.gap, [m.id for m in backlog.messages]) == (True, [b.id])
+    clock.now = 1020.0
+    assert await backend.info("c") is None  # nothing buffered, nobody subscribed

@@ -1,0 +1,245 @@
+"""RedisBackend against a real redis-server: order, resume, gaps, replicas, restarts, delete.
+
+Two `RedisBackend` instances on one Redis stand for two server replicas. The transports'
+tests (tests/relay) run the same HTTP-level suite on both backends; these check what only the
+Redis backend can get wrong: state shared through Redis, one reader per channel, recovery.
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import AsyncIterator, Callable
+
+import pytest
+import redis.asyncio as aioredis
+
+from server.relay.backend import BackendConfig, Start
+from server.relay.ids import parse_message_id
+from server.relay.messages import ChannelClosed, Event, Gap, StoredMessage
+from server.relay.redis_backend import RedisBackend
+from tests.redis_server import RedisServer
+
+WAIT_S = 10.0  # generous bound for events to arrive on a loaded machine (not a timing claim)
+
+MakeBackend = Callable[..., RedisBackend]
+
+
+class Collector:
+    """A Sink that keeps every event, and lets a test wait for some number of them."""
+
+    def __init__(self) -> None:
+        self.events: list[Event] = []
+        self._changed = asyncio.Event()
+
+    def offer(self, event: Event) -> None:
+        self.events.append(event)
+        self._changed.set()
+
+    async def wait_for(self, count: int) -> list[Event]:
+        async def enough() -> None:
+            while len(self.events) < count:
+                self._changed.clear()
+                await self._changed.wait()
+
+        await asyncio.wait_for(enough(), WAIT_S)
+        return self.events
+
+    @property
+    def ids(self) -> list[str]:
+        return [event.id for event in self.events if isinstance(event, StoredMessage)]
+
+
+@pytest.fixture
+async def make_backend(redis_url: str) -> AsyncIterator[MakeBackend]:
+    """Backends ("replicas") on the test's Redis, all closed at the end."""
+    backends: list[RedisBackend] = []
+
+    def make(**config: float) -> RedisBackend:
+        backend = RedisBackend(BackendConfig(**config), redis_url)
+        backends.append(backend)
+        return backend
+
+    yield make
+    for backend in backends:
+        await backend.close()
+
+
+async def publish_many(backend: RedisBackend, channel: str, count: int, start: int = 0) -> list[str]:
+    ids = []
+    for n in range(start, start + count):
+        published = await backend.publish(channel, b'{"n": %d}' % n, "application/json")
+        ids.append(published.message.id)
+    return ids
+
+
+async def test_ids_increase_and_subscribers_get_messages_in_order(make_backend: MakeBackend):
+    backend = make_backend()
+    sink = Collector()
+    await backend.subscribe("table-1", sink, start=Start.NEWEST)
+
+    ids = await publish_many(backend, "table-1", 30)
+
+    keys = [parse_message_id(message_id) for message_id in ids]
+    assert keys == sorted(keys) and len(set(keys)) == len(keys)
+    await sink.wait_for(30)
+    assert sink.ids == ids
+    assert [event.data for event in sink.events] == [b'{"n": %d}' % n for n in range(30)]
+    info = await backend.info("table-1")
+    assert info is not None
+    assert (info.messages, info.subscribers, info.last_message_id) == (30, 1, ids[-1])
+
+
+async def test_resume_delivers_each_missed_message_exactly_once(make_backend: MakeBackend):
+    backend = make_backend()
+    ids = await publish_many(backend, "game", 5)
+    sink = Collector()
+
+    # Publish while the subscription is being set up: nothing may be lost or doubled between
+    # the backlog and the live feed.
+    racing = asyncio.create_task(publish_many(backend, "game", 20, start=5))
+    await backend.subscribe("game", sink, last_id=ids[1])
+    ids += await racing
+
+    await sink.wait_for(len(ids) - 2)
+    await asyncio.sleep(0.1)  # room for a duplicate to show up
+    assert sink.ids == ids[2:]
+
+
+async def test_resume_from_an_evicted_id_announces_the_gap(make_backend: MakeBackend):
+    backend = make_backend(buffer_length=3)
+    ids = await publish_many(backend, "game", 6)
+
+    sink = Collector()
+    await backend.subscribe("game", sink, last_id=ids[0])
+    events = await sink.wait_for(4)
+    assert events[0] == Gap(channel="game", last_id=ids[0])
+    assert sink.ids == ids[3:]
+
+    # ids[2] is the newest evicted message: resuming from it misses nothing.
+    backlog = await backend.read_since("game", ids[2])
+    assert not backlog.gap
+    assert [message.id for message in backlog.messages] == ids[3:]
+    info = await backend.info("game")
+    assert info is not None and info.messages == 3
+
+
+async def test_expired_messages_leave_the_buffer(make_backend: MakeBackend):
+    backend = make_backend(message_ttl=0.5)
+    ids = await publish_many(backend, "lobby", 2)
+    await asyncio.sleep(0.8)
+    backlog = await backend.read_since("lobby", None)
+    assert backlog.messages == []
+    assert (await backend.read_since("lobby", ids[0])).gap
+    assert await backend.info("lobby") is None
+
+
+async def test_two_replicas_relay_to_each_others_subscribers(make_backend: MakeBackend):
+    first, second = make_backend(), make_backend()
+    on_first, on_second = Collector(), Collector()
+    await first.subscribe("match", on_first, start=Start.NEWEST)
+    await second.subscribe("match", on_second, start=Start.NEWEST)
+
+    published = await first.publish("match", b"shot", "text/plain")
+    ids = [published.message.id, *await publish_many(second, "match", 3)]
+
+    assert published.had_subscribers and published.info.subscribers == 2
+    await on_first.wait_for(4)
+    await on_second.wait_for(4)
+    assert on_first.ids == on_second.ids == ids
+    info = await second.info("match")
+    assert info is not None and info.subscribers == 2
+
+
+async def test_subscribers_count_only_while_their_replica_lives(make_backend: MakeBackend):
+    first, second = make_backend(), make_backend()
+    subscription = await second.subscribe("match", Collector())
+    assert not (await first.publish("other", b"x", "text/plain")).had_subscribers
+    assert (await first.publish("match", b"x", "text/plain")).had_subscribers
+
+    await second.unsubscribe(subscription)
+    info = await first.info("match")
+    assert info is not None and info.subscribers == 0
+    await second.subscribe("match", Collector())
+    await second.close()  # a replica shutting down withdraws its subscribers
+    info = await first.info("match")
+    assert info is not None and info.subscribers == 0
+
+
+async def test_one_redis_reader_per_channel_per_replica(
+    make_backend: MakeBackend, redis_url: str
+) -> None:
+    backend = make_backend()
+    sinks = [Collector() for _ in range(50)]
+    for sink in sinks:
+        await backend.subscribe("crowd", sink, start=Start.NEWEST)
+    await backend.subscribe("other", Collector(), start=Start.NEWEST)
+    await backend.publish("crowd", b"hello", "text/plain")
+    for sink in sinks:
+        await sink.wait_for(1)
+
+    admin = aioredis.from_url(redis_url)
+    clients = await admin.client_list()
+    await admin.aclose()
+    assert sum(client["cmd"] == "xread" for client in clients) == 2  # one per channel
+
+
+@pytest.mark.parametrize("kill", [False, True], ids=["shutdown", "sigkill"])
+async def test_redis_restart_loses_nothing_acknowledged(
+    make_backend: MakeBackend, redis_server: RedisServer, kill: bool
+) -> None:
+    publisher, reader = make_backend(), make_backend()
+    sink = Collector()
+    await reader.subscribe("game", sink, start=Start.NEWEST)
+    ids = await publish_many(publisher, "game", 10)
+    await sink.wait_for(10)
+
+    await asyncio.to_thread(redis_server.restart, kill=kill)
+    ids += await publish_many(publisher, "game", 10, start=10)
+
+    await sink.wait_for(20)  # the reader reconnected and went on from where it was
+    assert sink.ids == ids
+    backlog = await make_backend().read_since("game", None)
+    assert [message.id for message in backlog.messages] == ids
+    later = await publisher.publish("game", b"after", "text/plain")
+    assert parse_message_id(later.message.id) > parse_message_id(ids[-1])
+
+
+async def test_replica_restart_resumes_by_id(make_backend: MakeBackend):
+    old = make_backend()
+    sink = Collector()
+    await old.subscribe("game", sink, start=Start.NEWEST)
+    ids = await publish_many(old, "game", 3)
+    await sink.wait_for(3)
+    await old.close()
+
+    ids += await publish_many(make_backend(), "game", 4, start=3)
+    resumed = Collector()
+    await make_backend().subscribe("game", resumed, last_id=sink.ids[-1])
+    await resumed.wait_for(4)
+    assert resumed.ids == ids[3:]
+
+
+async def test_delete_closes_subscribers_on_every_replica(make_backend: MakeBackend):
+    first, second = make_backend(), make_backend()
+    on_first, on_second = Collector(), Collector()
+    await first.subscribe("game", on_first, start=Start.NEWEST)
+    await second.subscribe("game", on_second, start=Start.NEWEST)
+    await publish_many(first, "game", 2)
+
+    assert await first.delete("game")
+
+    closed = ChannelClosed(channel="game", reason="deleted")
+    assert (await on_first.wait_for(3))[-1] == closed
+    assert (await on_second.wait_for(3))[-1] == closed
+    assert await second.info("game") is None
+    assert (await second.read_since("game", None)).messages == []
+    assert second.local_subscribers("game") == 0
+    assert not await second.delete("game")
+
+
+@pytest.mark.parametrize("bad", ["", "12", "1:2:3", "a:b", "-1:0"])
+async def test_malformed_resume_id_is_refused(make_backend: MakeBackend, bad: str):
+    backend = make_backend()
+    with pytest.raises(ValueError):
+        await backend.subscribe("game", Collector(), last_id=bad)
+    assert backend.local_subscribers("game") == 0
