@@ -108,7 +108,9 @@ class Simulation:
         self.p = scene.params
         self.models = scene.models
         self.spin = scene.models.spin
-        self.ball_ball = BALL_BALL_MODELS["frictionless" if not self.spin else scene.models.ball_ball]
+        self.ball_ball = BALL_BALL_MODELS[
+            "frictionless" if not self.spin else scene.models.ball_ball
+        ]
         self.cushion: Callable = CUSHION_MODELS[scene.models.cushion]
         self.sin_theta = scene.sin_theta
         self.geometry = scene.geometry
@@ -118,6 +120,9 @@ class Simulation:
         self.seq = 0
         self.now = 0.0
         self.events: list[Event] = []
+        #: What the shot cost: pairs looked at, and how many of those needed a quartic.
+        self.pairs_checked = 0
+        self.pairs_solved = 0
 
     # -- state changes -------------------------------------------------------------------
 
@@ -135,9 +140,7 @@ class Simulation:
         self._record(b)
 
     def _record(self, b: _Ball) -> None:
-        b.segments.append(
-            (b.t0, b.state, (b.x, b.y), (b.vx, b.vy), (b.ax, b.ay), b.w, b.dw)
-        )
+        b.segments.append((b.t0, b.state, (b.x, b.y), (b.vx, b.vy), (b.ax, b.ay), b.w, b.dw))
 
     def _emit(self, kind: str, balls: tuple[str, ...], **extra: str) -> None:
         self.events.append(Event.model_construct(t=self.now, type=kind, balls=balls, **extra))
@@ -248,6 +251,7 @@ class Simulation:
     def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
         if bi.state not in _MOVING and bj.state not in _MOVING:
             return
+        self.pairs_checked += 1
         now = self.now
         horizon = min(bi.t_own, bj.t_own) - now
         xj, yj, vxj, vyj = bj.at(now)
@@ -257,6 +261,7 @@ class Simulation:
         D = 2.0 * self.p.R
         if path_misses(dx, dy, dvx, dvy, dax, day, horizon, D):
             return
+        self.pairs_solved += 1
         dist = math.hypot(dx, dy)
         c = (
             dx * dx + dy * dy - D * D,
@@ -338,9 +343,7 @@ class Simulation:
         pressing = (aa[0] - ab[0]) * n[0] + (aa[1] - ab[1]) * n[1]
         if pressing <= 0.0 or SLIDING in (sa, sb):
             return va, wa, vb, wb
-        until = min(
-            motion.transition_time(sa, va, wa, p), motion.transition_time(sb, vb, wb, p)
-        )
+        until = min(motion.transition_time(sa, va, wa, p), motion.transition_time(sb, vb, wb, p))
         if not math.isfinite(until):
             return va, wa, vb, wb
         dv = 0.5 * pressing * until

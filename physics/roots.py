@@ -13,6 +13,7 @@ moves apart. Pure Python floats: for degree <= 4 this beats numpy's per-call ove
 from __future__ import annotations
 
 import math
+from itertools import pairwise
 
 _NEWTON_ITERS = 60
 
@@ -46,9 +47,9 @@ def _quadratic_roots(c0: float, c1: float, c2: float) -> list[float]:
 def _refine(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -> float:
     """The root of a polynomial monotone on [lo, hi] with f(lo) > 0 >= f(hi).
 
-    Newton steps that stay inside the bracket, bisection otherwise; the bracket shrinks on
-    every step, so the loop ends even where Newton would cycle. Returns the bracket's upper
-    end once it cannot shrink further, so the reported time never precedes the contact.
+    Newton steps that stay inside the bracket, bisection otherwise, so the loop ends even
+    where Newton would cycle. Once a Newton step no longer moves the estimate, the estimate is
+    nudged up by a few ulps to where f <= 0, so a contact is never resolved before it begins.
     """
     t = hi
     for _ in range(_NEWTON_ITERS):
@@ -58,11 +59,20 @@ def _refine(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -
         else:
             hi = t
         if hi - lo <= 4e-16 * max(1.0, hi):
-            break
+            return hi
         d = _horner(dc, t)
         step = t - f / d if d != 0.0 else lo - 1.0
-        t = step if lo < step < hi else 0.5 * (lo + hi)
-    return hi
+        if not lo <= step <= hi:
+            t = 0.5 * (lo + hi)
+        elif abs(step - t) <= 4e-16 * max(1.0, t):
+            break
+        else:
+            t = step
+    for _ in range(8):
+        if _horner(c, t) <= 0.0:
+            break
+        t = math.nextafter(t, math.inf)
+    return min(t, hi)
 
 
 def critical_points(c: tuple[float, ...], hi: float) -> list[float]:
@@ -87,7 +97,7 @@ def all_roots(c: tuple[float, ...], hi: float) -> list[float]:
     knots = [0.0, *critical_points(c, hi), hi]
     roots = []
     f_prev = _horner(c, 0.0)
-    for a, b in zip(knots, knots[1:], strict=False):
+    for a, b in pairwise(knots):
         f_b = _horner(c, b)
         if (f_prev > 0.0) != (f_b > 0.0):
             roots.append(_refine(c, dc, a, b) if f_prev > 0.0 else _refine_neg(c, dc, a, b))
@@ -143,7 +153,7 @@ def first_entry(c: tuple[float, ...], hi: float, skip: float = 0.0) -> float | N
         return skip
     dc = _derivative(c)
     knots = [skip, *(p for p in critical_points(c, hi) if p > skip), hi]
-    for a, b in zip(knots, knots[1:], strict=False):
+    for a, b in pairwise(knots):
         if _horner(c, b) <= 0.0:
             return _refine(c, dc, a, b)
     return None
@@ -160,7 +170,7 @@ def first_return(c: tuple[float, ...], hi: float, depth: float) -> float | None:
     dc = _derivative(c)
     knots = [0.0, *critical_points(c, hi), hi]
     apart = False
-    for a, b in zip(knots, knots[1:], strict=False):
+    for a, b in pairwise(knots):
         f_b = _horner(c, b)
         if apart:
             if f_b <= 0.0:

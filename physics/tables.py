@@ -180,9 +180,7 @@ SNOOKER_TABLE = TableSpec(
 )
 
 #: A match carom table (2.84 x 1.42 m playing surface), no pockets.
-THREE_CUSHION = TableSpec(
-    "three_cushion", w=1.42, l=2.84, pockets=False, cushion_height=0.037
-)
+THREE_CUSHION = TableSpec("three_cushion", w=1.42, l=2.84, pockets=False, cushion_height=0.037)
 
 #: Each named table with the balls and cloth it is played with.
 PRESETS: dict[str, tuple[TableSpec, Params]] = {

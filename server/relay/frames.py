@@ -9,6 +9,8 @@
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from server.relay.messages import ChannelClosed, ChannelInfo, Gap
 
 GAP_TYPE = "application/vnd.relay.gap+json"
@@ -35,6 +37,7 @@ def info_body(info: ChannelInfo, as_json: bool) -> tuple[str, str]:
     return "text/plain", text
 
 
+@lru_cache(maxsize=4096)  # every subscriber of a channel sends the same header
 def meta_header(message_id: str, content_type: str) -> bytes:
     """The `ws+meta.nchan` header that precedes a message's data."""
     return f"id: {message_id}\ncontent-type: {content_type}\n\n".encode()

@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-from aiohttp import web
+from aiohttp import WSMessage, WSMsgType, web
 from pydantic import BaseModel, ConfigDict
 
 from server.relay.errors import RelayError
+from server.relay.payloads import JSON, MSGPACK
 from server.relay.relay import Relay
 
 RELAY_KEY = web.AppKey("relay", Relay)
@@ -33,12 +34,31 @@ def bearer_token(request: web.Request) -> str | None:
     return request.query.get("token")
 
 
+def error_body(error: RelayError) -> str:
+    """The JSON that says why a request was refused."""
+    return ErrorBody(error=error.reason, status=error.status).model_dump_json()
+
+
 def error_response(error: RelayError) -> web.Response:
     """A refusal: the status and a JSON body that says why."""
     headers = {}
     if error.status == 401:
         headers["WWW-Authenticate"] = "Bearer"
-    body = ErrorBody(error=error.reason, status=error.status).model_dump_json()
     return web.Response(
-        text=body, status=error.status, headers=headers, content_type="application/json"
+        text=error_body(error),
+        status=error.status,
+        headers=headers,
+        content_type="application/json",
     )
+
+
+def frame_message(frame: WSMessage) -> tuple[str, bytes] | None:
+    """(content type, body) a client's WebSocket frame publishes: text is JSON, binary msgpack.
+
+    None for control frames, which publish nothing.
+    """
+    if frame.type == WSMsgType.TEXT:
+        return JSON, frame.data.encode()
+    if frame.type == WSMsgType.BINARY:
+        return MSGPACK, frame.data
+    return None

@@ -2,7 +2,9 @@
 
 Each channel is a deque bounded by the buffer length; expired messages are dropped lazily when
 the channel is next touched. `publish` fans out directly, so the "feed" of the interface is the
-publish call itself.
+publish call itself. A channel's state stays until it is deleted (the game service deletes a
+game's channels when it ends): forgetting it earlier would forget which ids expired, and a late
+resume would then miss its gap notice.
 """
 
 from __future__ import annotations

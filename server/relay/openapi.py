@@ -85,8 +85,13 @@ def openapi_document() -> dict[str, Any]:
                     },
                 },
                 "get": {
-                    "summary": "Channel info (JSON with Accept: application/json)",
-                    "responses": {"200": _info("channel info"), "404": _error("no such channel")},
+                    "summary": "Channel info (JSON with Accept: application/json); with a "
+                    "WebSocket upgrade, a publisher socket answering each frame with the info",
+                    "responses": {
+                        "101": {"description": "WebSocket publisher"},
+                        "200": _info("channel info"),
+                        "404": _error("no such channel"),
+                    },
                 },
                 "delete": {
                     "summary": "Delete a channel and close its subscribers",

@@ -3,6 +3,9 @@
 - POST publishes the body (JSON or msgpack by Content-Type) and answers the channel info:
   201 when subscribers were present, 202 when none were.
 - GET answers the channel info (text, or JSON by Accept), 404 for an unknown channel.
+- GET with a WebSocket upgrade opens a publisher socket: each frame (text: JSON, binary:
+  msgpack) is published and answered with the channel info in the format the handshake's Accept
+  asked for, or with the JSON error body of a refusal (nothing published, socket kept open).
 - DELETE removes the channel and closes its subscribers: 200 with its last info, 404 if unknown.
 """
 
@@ -12,7 +15,7 @@ from aiohttp import web
 
 from server.relay.errors import RelayError
 from server.relay.frames import info_body, wants_json
-from server.relay.http import bearer_token, error_response, relay_of
+from server.relay.http import bearer_token, error_body, error_response, frame_message, relay_of
 from server.relay.messages import ChannelInfo
 from server.relay.relay import check_channel
 
@@ -48,12 +51,34 @@ async def publish(request: web.Request) -> web.Response:
     return _info_response(request, published.info, 201 if published.had_subscribers else 202)
 
 
-async def channel_info(request: web.Request) -> web.Response:
+async def _websocket_publisher(request: web.Request, channel: str) -> web.WebSocketResponse:
+    relay = relay_of(request)
+    token = bearer_token(request)
+    as_json = wants_json(request.headers.get("Accept"))
+    ws = web.WebSocketResponse(
+        heartbeat=relay.settings.keepalive, max_msg_size=relay.settings.max_message_bytes
+    )
+    await ws.prepare(request)
+    async for frame in ws:
+        if (message := frame_message(frame)) is None:
+            continue
+        try:
+            published = await relay.publish(channel, token, *message)
+        except RelayError as error:
+            await ws.send_str(error_body(error))
+            continue
+        await ws.send_str(info_body(published.info, as_json)[1])
+    return ws
+
+
+async def channel_info(request: web.Request) -> web.StreamResponse:
     relay = relay_of(request)
     try:
         channel = check_channel(request.match_info["channel"])
     except RelayError as error:
         return error_response(error)
+    if request.headers.get("Upgrade", "").lower() == "websocket":
+        return await _websocket_publisher(request, channel)
     info = await relay.backend.info(channel)
     if info is None:
         return error_response(RelayError(404, f"no channel {channel!r}"))

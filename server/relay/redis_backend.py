@@ -16,9 +16,10 @@ Every state change is one Lua script, so it is atomic and uses Redis' clock (one
 replicas). With `appendonly yes` and `appendfsync always` (docker-compose.yml, the test
 fixture) a publish that was answered is on disk, and survives a Redis restart.
 
-Fan-out: each replica runs one reader task per channel that has local subscribers. It blocks
-in `XREAD` on the channel's stream and control stream and hands each new message to every local
-subscriber (`Backend._fan_out`), so Redis is read once per message per replica, never once per
+Fan-out: each replica runs one reader task per channel that has local subscribers, on its own
+connection. It blocks in `XREAD` on the channel's stream and control stream (a delete anywhere
+adds an entry there) and hands each new message to every local subscriber
+(`Backend._fan_out`), so Redis is read once per message per replica, never once per
 subscriber. After a Redis restart the reader reconnects and goes on from the last id it saw.
 """
 
@@ -46,9 +47,12 @@ REPLICAS_KEY = "relay:replicas"
 HEARTBEAT_S = 5.0
 ALIVE_S = 15.0
 IDLE_KEY_S = 86400  # a channel's keys outlive its last message by this long
-READ_BLOCK_MS = 2000
+READ_BLOCK_MS = 30_000  # an idle reader re-blocks this often
+READER_STOP_S = 1.0
 READ_BATCH = 512
 RECONNECT_MAX_S = 1.0
+COMMAND_CONNECTIONS = 64
+MAX_READERS = 10_000  # channels with local subscribers per replica (one connection each)
 _REDIS_DOWN = (RedisConnectionError, RedisTimeoutError, OSError)
 
 # Shared Lua helpers, prepended to the scripts below.
@@ -171,8 +175,9 @@ redis.call('ZREMRANGEBYSCORE', KEYS[1], '-inf', now - 3600)
 
 
 def _cancelled() -> bool:
-    """True once this task was asked to stop: redis-py sometimes turns the CancelledError of
-    a command in progress into a connection error, so loops check this rather than trust it."""
+    """True once this task was asked to stop. A cancellation can get lost inside redis-py
+    (Python 3.11's `asyncio.wait_for` around a send drops one that arrives as the send
+    completes), so the loops check this instead of relying on CancelledError alone."""
     task = asyncio.current_task()
     return task is not None and task.cancelling() > 0
 
@@ -224,19 +229,34 @@ class RedisBackend(Backend):
         self.replica = uuid.uuid4().hex
         # One retry: a pooled connection left dead by a Redis restart fails once, then a fresh
         # one is used. More retries could publish twice when only the answer was lost.
-        self._redis = aioredis.from_url(url, retry=Retry(NoBackoff(), 1))
-        # Readers block in XREAD, each on its own connection of this pool.
-        self._readers_redis = aioredis.from_url(url, retry=Retry(NoBackoff(), 0))
+        # Commands wait for a free connection rather than fail when all are busy.
+        # (driver_info=None: no CLIENT SETINFO, which costs a package-metadata lookup per
+        # connection, and readers connect often.)
+        self._redis = aioredis.Redis.from_pool(
+            aioredis.BlockingConnectionPool.from_url(
+                url,
+                retry=Retry(NoBackoff(), 1),
+                max_connections=COMMAND_CONNECTIONS,
+                driver_info=None,
+            )
+        )
+        # Readers block in XREAD, each holding one connection of this pool while it lives.
+        self._readers_pool = aioredis.ConnectionPool.from_url(
+            url,
+            retry=Retry(NoBackoff(), 0),
+            max_connections=MAX_READERS,
+            socket_keepalive=True,
+            driver_info=None,
+        )
         self._publish = self._redis.register_script(_PUBLISH)
         self._read_since = self._redis.register_script(_READ_SINCE)
         self._info_script = self._redis.register_script(_INFO)
         self._delete = self._redis.register_script(_DELETE)
         self._count = self._redis.register_script(_COUNT)
         self._heartbeat_script = self._redis.register_script(_HEARTBEAT)
-        self._readers: dict[str, asyncio.Task[None]] = {}
+        self._readers: dict[str, tuple[asyncio.Task[None], aioredis.Redis]] = {}
         self._heartbeat: asyncio.Task[None] | None = None
         self._unsynced: set[str] = set()
-        self._stopping: set[asyncio.Task[None]] = set()
 
     @property
     def _bounds(self) -> list[Any]:
@@ -306,10 +326,7 @@ class RedisBackend(Backend):
                     pipe.hdel(_keys(channel)["subs"], self.replica)
                 pipe.zrem(REPLICAS_KEY, self.replica)
                 await pipe.execute()
-        # Unblock the readers still in XREAD by closing their connections, then let them end.
-        await self._readers_redis.connection_pool.disconnect()
-        await asyncio.gather(*self._stopping, return_exceptions=True)
-        await self._readers_redis.aclose()
+        await self._readers_pool.aclose()
         await self._redis.aclose()
 
     # ----- per-channel feed ------------------------------------------------------------------
@@ -323,28 +340,44 @@ class RedisBackend(Backend):
             keys["stream"]: newest[0][0] if newest else b"0-0",
             keys["ctl"]: control[0][0] if control else b"0-0",
         }
-        self._readers[channel] = asyncio.create_task(
-            self._read_feed(channel, positions), name=f"relay-reader-{channel}"
+        client = aioredis.Redis(connection_pool=self._readers_pool, single_connection_client=True)
+        reader = asyncio.create_task(
+            self._read_feed(channel, client, positions), name=f"relay-reader-{channel}"
         )
+        self._readers[channel] = (reader, client)
 
     async def _close_feed(self, channel: str) -> None:
-        """Cancel the reader without waiting: it may finish its current XREAD (at most
-        READ_BLOCK_MS) but fans out nothing more; `close` waits for the stragglers."""
-        reader = self._readers.pop(channel, None)
-        if reader is not None and reader is not asyncio.current_task():
-            reader.cancel()
-            self._stopping.add(reader)
-            reader.add_done_callback(self._stopping.discard)
+        """Stop the reader: cancel it and close its connection, which ends a blocked XREAD at
+        once (redis-py does not always let a cancellation through a pending read)."""
+        reader, client = self._readers.pop(channel, (None, None))
+        if reader is None or client is None or reader is asyncio.current_task():
+            return  # a reader that ends itself (channel deleted) closes its own client
+        reader.cancel()
+        if client.connection is not None:
+            await client.connection.disconnect(nowait=True)
+        await asyncio.wait({reader}, timeout=READER_STOP_S)
 
-    async def _read_feed(self, channel: str, positions: dict[str, bytes]) -> None:
-        """The channel's reader: fan out new messages until cancelled or the channel is deleted."""
+    async def _read_feed(
+        self, channel: str, client: aioredis.Redis, positions: dict[str, bytes]
+    ) -> None:
+        """The channel's reader: fan out new messages until stopped or the channel is deleted."""
+        try:
+            await self._read_loop(channel, client, positions)
+        except Exception:
+            if not _cancelled():
+                raise
+            # Stopped while `_close_feed` closed the connection under a command in progress.
+        finally:
+            await client.aclose()
+
+    async def _read_loop(
+        self, channel: str, client: aioredis.Redis, positions: dict[str, bytes]
+    ) -> None:
         stream_key = _keys(channel)["stream"]
         delay = 0.05
         while not _cancelled():
             try:
-                reply = await self._readers_redis.xread(
-                    positions, count=READ_BATCH, block=READ_BLOCK_MS
-                )
+                reply = await client.xread(positions, count=READ_BATCH, block=READ_BLOCK_MS)
             except _REDIS_DOWN as error:
                 if _cancelled():
                     break

@@ -21,9 +21,9 @@ from aiohttp import WSMsgType, web
 from server.relay.cursor import Cursor
 from server.relay.errors import RelayError
 from server.relay.frames import meta_header, notice
-from server.relay.http import bearer_token, relay_of
+from server.relay.http import bearer_token, frame_message, relay_of
 from server.relay.messages import DELETED, SHUTDOWN, ChannelClosed, Event, StoredMessage
-from server.relay.payloads import JSON, MSGPACK
+from server.relay.payloads import MSGPACK
 from server.relay.sendqueue import SendQueue
 from server.relay.subscribing import subscribe_all, unsubscribe_all
 
@@ -94,12 +94,10 @@ async def websocket_subscriber(
     token = bearer_token(request)
     try:
         async for frame in ws:
-            if frame.type not in (WSMsgType.TEXT, WSMsgType.BINARY):
+            if (message := frame_message(frame)) is None:
                 continue
-            binary = frame.type == WSMsgType.BINARY
-            data = frame.data if binary else frame.data.encode()
             try:
-                await relay.publish(publish_to, token, MSGPACK if binary else JSON, data)
+                await relay.publish(publish_to, token, *message)
             except RelayError as error:
                 await ws.close(code=4000 + error.status, message=error.reason.encode()[:123])
     finally:

@@ -1,6 +1,7 @@
 """The hard cases of an event-based engine, each set up exactly and checked by what must hold."""
 
 import math
+from itertools import pairwise
 
 import pytest
 
@@ -190,7 +191,7 @@ def test_ball_rattles_in_the_jaws(offset, drops):
     )
     jaws = [e.cushion for e in events_of(shot, "ball_jaw")]
     assert len(jaws) >= 3
-    assert all(a != b for a, b in zip(jaws, jaws[1:], strict=False))  # side to side
+    assert all(a != b for a, b in pairwise(jaws))  # side to side
     assert all(e.pocket == "top_right" for e in events_of(shot, "ball_jaw"))
     assert (shot.final["cue"].state == "pocketed") is drops
     assert_sane(shot)
@@ -219,8 +220,12 @@ def test_corner_hit_is_two_cushion_contacts():
     """Into the corner of a carom table: both cushions, one after the other, at one instant."""
     x = 0.5
     balls = {"white": [x, x]}
-    shot = run(balls, initial={"white": {"v": [-2.0, -2.0], "w": [0.0, 0.0, 0.0]}},
-               table="three_cushion", models={"spin": False})
+    shot = run(
+        balls,
+        initial={"white": {"v": [-2.0, -2.0], "w": [0.0, 0.0, 0.0]}},
+        table="three_cushion",
+        models={"spin": False},
+    )
     rails = events_of(shot, "ball_cushion")
     assert {rails[0].cushion, rails[1].cushion} == {"left", "bottom"}
     assert rails[1].t - rails[0].t < 1e-12

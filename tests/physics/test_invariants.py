@@ -55,9 +55,7 @@ def scenes(draw):
     return {"table": "nineball", "balls": balls, "initial": initial, "models": models}
 
 
-@settings(
-    max_examples=1000, deadline=None, suppress_health_check=[HealthCheck.too_slow]
-)
+@settings(max_examples=1000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(scenes())
 def test_random_scenes_keep_the_invariants(scene):
     shot = simulate(scene)
@@ -83,4 +81,7 @@ def test_random_scenes_keep_the_invariants(scene):
 
 
 def _near_pocket(x: float, y: float) -> bool:
-    return min(math.dist((x, y), c) for c in [(0, 0), (W, 0), (0, L), (W, L), (0, L / 2), (W, L / 2)]) < 0.15
+    return (
+        min(math.dist((x, y), c) for c in [(0, 0), (W, 0), (0, L), (W, L), (0, L / 2), (W, L / 2)])
+        < 0.15
+    )

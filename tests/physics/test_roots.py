@@ -1,5 +1,6 @@
 """The collision-time solver: the earliest root, never a missed or a spurious one."""
 
+from itertools import pairwise
 
 import numpy as np
 from hypothesis import assume, given, settings
@@ -24,7 +25,7 @@ def test_first_entry_matches_dense_sampling(roots, sign):
     """Distinct roots (a triple or quadruple root is float noise wide: see the double-root
     test for the grazing case that matters)."""
     roots = sorted(roots)
-    assume(min(b - a for a, b in zip(roots, roots[1:], strict=False)) > 1e-3)
+    assume(min(b - a for a, b in pairwise(roots)) > 1e-3)
     c = tuple(float(x) * sign for x in np.polynomial.polynomial.polyfromroots(roots))
     got = first_entry(c, 2.0)
     ref = brute_first(c, 2.0)

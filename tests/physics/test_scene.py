@@ -60,9 +60,7 @@ def test_two_cloths_side_by_side():
     """The same shot on two cloths in one process: the slower cloth stops the ball sooner."""
     shot = {"cue": {"v": [0.0, 0.5], "w": [-0.5 / R, 0.0, 0.0]}}
     fast = simulate_scene(with_(balls={"cue": [0.5, 0.5]}, initial=shot))
-    slow = simulate_scene(
-        with_(balls={"cue": [0.5, 0.5]}, initial=shot, params={"u_r": 0.02})
-    )
+    slow = simulate_scene(with_(balls={"cue": [0.5, 0.5]}, initial=shot, params={"u_r": 0.02}))
     assert slow["final"]["cue"]["pos"][1] < fast["final"]["cue"]["pos"][1]
     again = simulate_scene(with_(balls={"cue": [0.5, 0.5]}, initial=shot))
     assert again == fast

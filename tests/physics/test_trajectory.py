@@ -1,6 +1,7 @@
 """Trajectory output: exact positions from the segments alone, compact on the wire."""
 
 import json
+from itertools import pairwise
 
 import numpy as np
 
@@ -23,7 +24,7 @@ def test_segments_are_continuous_in_position():
     """Each segment starts where the previous one ends: no jumps at events."""
     shot = simulate(nineball_break())
     for segs in shot.trajectories.values():
-        for prev, nxt in zip(segs, segs[1:], strict=False):
+        for prev, nxt in pairwise(segs):
             if nxt.state == "pocketed":
                 continue
             tau = nxt.t - prev.t

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import aiohttp
 import msgpack
 
@@ -100,3 +102,36 @@ async def test_delete_needs_a_token_for_the_channel(relay: RelayHarness) -> None
     response = await relay.client.delete("/pub/game1", headers=relay.auth("game2"))
     assert response.status == 403
     assert await relay.info("game1") is not None
+
+
+async def test_websocket_publisher_gets_channel_info_per_message(relay: RelayHarness) -> None:
+    token = relay.token("game1")
+    publisher = await relay.client.ws_connect(
+        f"/pub/game1?token={token}", headers={"Accept": "application/json"}
+    )
+    await publisher.send_str('{"move": 1}')
+    info = json.loads((await receive(publisher)).data)
+    assert (info["messages"], info["subscribers"]) == (1, 0)
+    subscriber = await relay.ws("/sub/game1")
+    await receive_meta(subscriber)
+    await publisher.send_bytes(msgpack.packb({"move": 2}))
+    info = json.loads((await receive(publisher)).data)
+    assert (info["messages"], info["subscribers"]) == (2, 1)
+    _, content_type, data = await receive_meta(subscriber)
+    assert (content_type, msgpack.unpackb(data)) == ("application/msgpack", {"move": 2})
+    await publisher.send_str("{not json")
+    refusal = json.loads((await receive(publisher)).data)
+    assert refusal["status"] == 400
+    await publisher.send_str('{"move": 3}')  # the socket stays usable after a refusal
+    assert json.loads((await receive(publisher)).data)["messages"] == 3
+    await publisher.close()
+    await subscriber.close()
+
+
+async def test_websocket_publisher_without_token_publishes_nothing(relay: RelayHarness) -> None:
+    publisher = await relay.client.ws_connect("/pub/game1")
+    await publisher.send_str('{"move": 1}')
+    refusal = json.loads((await receive(publisher)).data)
+    assert refusal["status"] == 401
+    assert await relay.info("game1") is None
+    await publisher.close()

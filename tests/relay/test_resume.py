@@ -8,7 +8,7 @@ import json
 import aiohttp
 
 from server.relay.frames import GAP_TYPE
-from tests.relay.conftest import RelayHarness, StartRelay, receive_meta
+from tests.relay.conftest import RelayHarness, StartRelay, receive_meta, wait_subscribers
 
 
 async def _collect(ws: aiohttp.ClientWebSocketResponse, count: int) -> list[tuple[str, int]]:
@@ -116,3 +116,15 @@ async def test_malformed_last_id_is_400(relay: RelayHarness) -> None:
     )
     assert response.status == 400
     assert "malformed message id" in (await response.json())["error"]
+
+
+async def test_first_message_setting_picks_oldest_or_only_new(start_relay: StartRelay) -> None:
+    for first, expected in (("oldest", [0, 1, 2]), ("newest", [2])):
+        relay = await start_relay(first_message=first)
+        await relay.publish_ok(f"game_{first}", 0)
+        await relay.publish_ok(f"game_{first}", 1)
+        ws = await relay.ws(f"/sub/game_{first}")
+        await wait_subscribers(relay, f"game_{first}", 1)
+        await relay.publish_ok(f"game_{first}", 2)
+        assert [value for _, value in await _collect(ws, len(expected))] == expected
+        await ws.close()

@@ -1,0 +1,519 @@
+"""Relay benchmark: the relay (memory and Redis backends) beside a bare aiohttp forwarder and nchan.
+
+    .venv/bin/python bench/relay.py [--quick] [--targets memory,redis,bare,nchan]
+
+Every target runs as its own server process on 127.0.0.1 (one process / one nginx worker);
+this process is the load generator. For each target, on a freshly started server:
+
+1. capacity: open up to `capacity` idle WebSocket subscribers, spread over channels; the RSS
+   growth of the server divided by the connections is the memory per idle connection; then one
+   message per channel checks that every connection is really held (delivered = held).
+2. fan-out: 1 publisher (HTTP POST, a few requests in flight) -> 1,000 subscribers of one
+   channel, as fast as it goes: messages delivered per second.
+3. pairs: 1,000 channels x 2 subscribers, publishes spread round-robin over the channels.
+4. For 2 and 3, a paced run at half the measured delivery rate gives the p50/p99
+   publish-to-deliver latency (the payload carries its send time; one clock, one process).
+
+The relay runs with every feature on (token check, payload validation, bounded send queues,
+Redis AOF with fsync on every write) except that the publish rate limit is raised: the load
+generator is one publisher. The bare forwarder is the ceiling of this stack: an aiohttp app that
+only copies POSTed bytes to the channel's WebSockets. nchan is Debian's nginx +
+libnginx-mod-nchan with a generated config; its row reads "unavailable" if nginx is missing.
+
+The machine is shared and small: figures are noisy, compare columns of one run only.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import os
+import resource
+import shutil
+import signal
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from contextlib import AbstractContextManager, ExitStack
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import aiohttp
+import msgpack
+from aiohttp import web
+
+ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+SECRET = "bench-relay-secret-0123456789"
+HOST = "127.0.0.1"
+TARGETS = ("memory", "redis", "bare", "nchan")
+NGINX = "/usr/sbin/nginx"
+NCHAN_MODULE = "/usr/lib/nginx/modules/ngx_nchan_module.so"
+FD_LIMIT = 20_000
+START_TIMEOUT_S = 15.0
+DELIVERY_TIMEOUT_S = 20.0  # after the last publish, waiting for stragglers
+CONNECT_CONCURRENCY = 200
+PAD = "x" * 64
+
+
+@dataclass(frozen=True)
+class Sizes:
+    """How much load each phase applies (see the module docstring)."""
+
+    capacity: int
+    capacity_channels: int
+    fanout_subscribers: int
+    fanout_messages: int
+    pair_channels: int
+    pair_messages: int
+    paced_seconds: float
+    publishers_in_flight: int = 8
+
+
+FULL = Sizes(10_000, 1_000, 1_000, 200, 1_000, 6_000, 4.0)
+QUICK = Sizes(2_000, 200, 1_000, 40, 1_000, 1_500, 1.5)
+
+
+# ----- servers -------------------------------------------------------------------------------
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind((HOST, 0))
+        return sock.getsockname()[1]
+
+
+def bare_app() -> web.Application:
+    """The ceiling: POST /pub/{channel} copies the body to the channel's WebSockets, nothing
+    else (no ids, no buffer, no validation, no auth)."""
+    channels: dict[str, set[web.WebSocketResponse]] = {}
+
+    async def subscribe(request: web.Request) -> web.WebSocketResponse:
+        ws = web.WebSocketResponse()
+        await ws.prepare(request)
+        subscribers = channels.setdefault(request.match_info["channel"], set())
+        subscribers.add(ws)
+        try:
+            async for _ in ws:
+                pass
+        finally:
+            subscribers.discard(ws)
+        return ws
+
+    async def publish(request: web.Request) -> web.Response:
+        text = (await request.read()).decode()
+        subscribers = tuple(channels.get(request.match_info["channel"], ()))
+        for ws in subscribers:
+            await ws.send_str(text)
+        return web.Response(status=201 if subscribers else 202)
+
+    app = web.Application()
+    app.router.add_get("/sub/{channel}", subscribe)
+    app.router.add_post("/pub/{channel}", publish)
+    return app
+
+
+def relay_app(redis_url: str | None) -> web.Application:
+    """The real relay, every feature on; only the per-publisher rate limit is lifted."""
+    from server.app import AppSettings, create_app
+    from server.relay.settings import RelaySettings
+
+    relay = RelaySettings(auth_secret=SECRET, publish_rate=1e9, publish_burst=10**9)
+    return create_app(AppSettings(relay=relay, redis_url=redis_url))
+
+
+def serve(kind: str, port: int, redis_url: str | None) -> None:
+    """Entry point of a server process (`--serve`)."""
+    app = bare_app() if kind == "bare" else relay_app(redis_url)
+    web.run_app(app, host=HOST, port=port, print=None, access_log=None)
+
+
+def wait_for_port(port: int, process: subprocess.Popen[bytes], what: str) -> None:
+    deadline = time.monotonic() + START_TIMEOUT_S
+    while time.monotonic() < deadline:
+        if process.poll() is not None:
+            raise RuntimeError(f"{what} exited with {process.returncode}")
+        with socket.socket() as sock:
+            if sock.connect_ex((HOST, port)) == 0:
+                return
+        time.sleep(0.05)
+    raise RuntimeError(f"{what} did not listen on {port} within {START_TIMEOUT_S} s")
+
+
+def rss_kb(pid: int) -> int:
+    for line in Path(f"/proc/{pid}/status").read_text().splitlines():
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1])
+    return 0
+
+
+def children(pid: int) -> list[int]:
+    path = Path(f"/proc/{pid}/task/{pid}/children")
+    return [int(child) for child in path.read_text().split()] if path.exists() else []
+
+
+class ServerProcess(AbstractContextManager["ServerProcess"]):
+    """A server subprocess on a free port; `measured_pids` are those whose RSS counts."""
+
+    def __init__(self, args: list[str], what: str, port: int) -> None:
+        self.port = port
+        self.what = what
+        self.process = subprocess.Popen(args, stdout=subprocess.DEVNULL)
+        wait_for_port(port, self.process, what)
+
+    def measured_pids(self) -> list[int]:
+        return [self.process.pid]
+
+    def rss_kb(self) -> int:
+        return sum(rss_kb(pid) for pid in self.measured_pids())
+
+    def __exit__(self, *exc_info: object) -> None:
+        self.process.send_signal(signal.SIGINT if self.what != "nchan" else signal.SIGQUIT)
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+
+
+class NginxProcess(ServerProcess):
+    """nginx + nchan: the worker processes are measured, not the master."""
+
+    def measured_pids(self) -> list[int]:
+        return children(self.process.pid)
+
+
+NCHAN_CONF = """
+load_module {module};
+{user}
+daemon off;
+master_process on;
+worker_processes 1;
+worker_rlimit_nofile {fds};
+pid {dir}/nginx.pid;
+error_log {dir}/error.log warn;
+events {{ worker_connections {fds}; }}
+http {{
+    access_log off;
+    client_body_temp_path {dir}/body;
+    proxy_temp_path {dir}/proxy;
+    fastcgi_temp_path {dir}/fastcgi;
+    uwsgi_temp_path {dir}/uwsgi;
+    scgi_temp_path {dir}/scgi;
+    nchan_shared_memory_size 256M;
+    server {{
+        listen {host}:{port};
+        location ~ ^/pub/([A-Za-z0-9_-]+)$ {{
+            nchan_publisher;
+            nchan_channel_id $1;
+            nchan_message_buffer_length 100;
+            nchan_message_timeout 3600s;
+        }}
+        location ~ ^/sub/([A-Za-z0-9_-]+)$ {{
+            nchan_subscriber;
+            nchan_channel_id $1;
+        }}
+    }}
+}}
+"""
+
+
+def start_target(target: str, stack: ExitStack) -> ServerProcess | None:
+    """Start one target's server (and its Redis); None if it cannot run here."""
+    port = free_port()
+    if target == "nchan":
+        if not (Path(NGINX).exists() and Path(NCHAN_MODULE).exists()):
+            return None
+        directory = Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="nchan-")))
+        conf = directory / "nginx.conf"
+        user = "user root;" if os.geteuid() == 0 else ""
+        conf.write_text(
+            NCHAN_CONF.format(
+                module=NCHAN_MODULE, user=user, fds=FD_LIMIT, dir=directory, host=HOST, port=port
+            )
+        )
+        args = [NGINX, "-p", str(directory), "-c", str(conf), "-e", str(directory / "error.log")]
+        return stack.enter_context(NginxProcess(args, "nchan", port))
+    redis_url = None
+    if target == "redis":
+        from tests.redis_server import RedisServer
+
+        redis = RedisServer(Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="r-"))))
+        redis.start()
+        stack.callback(redis.stop)
+        redis_url = redis.url
+    kind = "bare" if target == "bare" else "relay"
+    args = [sys.executable, __file__, "--serve", kind, "--port", str(port)]
+    args += ["--redis", redis_url] if redis_url else []
+    return stack.enter_context(ServerProcess(args, target, port))
+
+
+# ----- load generator ------------------------------------------------------------------------
+def sent_at(data: str | bytes) -> int:
+    """The send time (monotonic ns) a payload carries, whatever frame type brought it."""
+    if isinstance(data, bytes) and data[:1] != b"{":
+        return int(msgpack.unpackb(data)["t"])
+    text = data.decode() if isinstance(data, bytes) else data
+    start = text.index('"t":') + 4
+    return int(text[start : text.index(",", start)])
+
+
+@dataclass
+class Receiver:
+    """Counts deliveries; records latencies while `recording`."""
+
+    count: int = 0
+    last_ns: int = 0
+    recording: bool = False
+    latencies_ms: list[float] = field(default_factory=list)
+
+    def take(self, data: str | bytes) -> None:
+        now = time.monotonic_ns()
+        self.count += 1
+        self.last_ns = now
+        if self.recording:
+            self.latencies_ms.append((now - sent_at(data)) / 1e6)
+
+    async def wait_for(self, count: int, timeout: float) -> None:
+        deadline = time.monotonic() + timeout
+        while self.count < count and time.monotonic() < deadline:
+            await asyncio.sleep(0.02)
+
+
+async def read_forever(ws: aiohttp.ClientWebSocketResponse, receiver: Receiver) -> None:
+    async for message in ws:
+        if message.type in (aiohttp.WSMsgType.TEXT, aiohttp.WSMsgType.BINARY):
+            receiver.take(message.data)
+
+
+class Load:
+    """The load generator's side of one target: subscribers and a publisher."""
+
+    def __init__(self, port: int, session: aiohttp.ClientSession, sizes: Sizes) -> None:
+        self.sizes = sizes
+        self.base = f"http://{HOST}:{port}"
+        self.session = session
+        self.receiver = Receiver()
+        self.sockets: list[aiohttp.ClientWebSocketResponse] = []
+        self.readers: list[asyncio.Task[None]] = []
+        from server.relay.auth import TokenAuthority
+
+        token = TokenAuthority(SECRET.encode(), "public-").issue("bench", [], 3600, server=True)
+        self.headers = {"Content-Type": "application/json", "Authorization": f"Bearer {token}"}
+
+    async def subscribe(self, channels: list[str]) -> int:
+        """Open one WebSocket subscriber per entry of `channels`; how many opened."""
+        gate = asyncio.Semaphore(CONNECT_CONCURRENCY)
+
+        async def one(channel: str) -> None:
+            async with gate:
+                try:
+                    ws = await self.session.ws_connect(f"{self.base}/sub/{channel}")
+                except (aiohttp.ClientError, OSError, TimeoutError):
+                    return
+            self.sockets.append(ws)
+            self.readers.append(asyncio.create_task(read_forever(ws, self.receiver)))
+
+        await asyncio.gather(*(one(channel) for channel in channels))
+        return len(self.sockets)
+
+    async def close(self) -> None:
+        for reader in self.readers:
+            reader.cancel()
+        await asyncio.gather(*self.readers, return_exceptions=True)
+        await asyncio.gather(*(ws.close() for ws in self.sockets), return_exceptions=True)
+        self.sockets.clear()
+        self.readers.clear()
+        self.receiver = Receiver()
+
+    async def publish(self, channel: str) -> None:
+        body = json.dumps({"t": time.monotonic_ns(), "pad": PAD})
+        async with self.session.post(
+            f"{self.base}/pub/{channel}", data=body, headers=self.headers
+        ) as response:
+            await response.read()
+            if response.status not in (200, 201, 202):
+                raise RuntimeError(f"publish to {channel}: HTTP {response.status}")
+
+    async def saturate(self, channel_of: Callable[[int], str], messages: int, fanout: int) -> float:
+        """Publish `messages` with a few in flight; deliveries per second until the last."""
+        start = time.monotonic_ns()
+        next_index = iter(range(messages))
+
+        async def worker() -> None:
+            for index in next_index:
+                await self.publish(channel_of(index))
+
+        await asyncio.gather(*(worker() for _ in range(self.sizes.publishers_in_flight)))
+        await self.receiver.wait_for(messages * fanout, DELIVERY_TIMEOUT_S)
+        return self.receiver.count / max(self.receiver.last_ns - start, 1) * 1e9
+
+    async def paced(
+        self, channel_of: Callable[[int], str], deliveries_per_s: float, fanout: int
+    ) -> tuple[float, float]:
+        """Publish at a steady rate for `paced_seconds`; p50 and p99 latency in ms."""
+        rate = max(deliveries_per_s / fanout, 1.0)
+        count = max(int(rate * self.sizes.paced_seconds), 10)
+        expected = self.receiver.count + count * fanout
+        self.receiver.recording = True
+        gate = asyncio.Semaphore(64)
+        start = time.monotonic()
+        tasks = []
+
+        async def one(index: int) -> None:
+            async with gate:
+                await self.publish(channel_of(index))
+
+        for index in range(count):
+            await asyncio.sleep(max(0.0, start + index / rate - time.monotonic()))
+            tasks.append(asyncio.create_task(one(index)))
+        await asyncio.gather(*tasks)
+        await self.receiver.wait_for(expected, DELIVERY_TIMEOUT_S)
+        self.receiver.recording = False
+        latencies = self.receiver.latencies_ms
+        if len(latencies) < 2:
+            return float("nan"), float("nan")
+        cuts = statistics.quantiles(latencies, n=100)
+        return cuts[49], cuts[98]
+
+
+async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str, float]:
+    """All phases against one running server."""
+    result: dict[str, float] = {}
+    timeout = aiohttp.ClientTimeout(total=None, sock_connect=10, sock_read=30)
+    connector = aiohttp.TCPConnector(limit=0, force_close=False)
+    async with aiohttp.ClientSession(timeout=timeout, connector=connector) as session:
+        load = Load(server.port, session, sizes)
+        # Warm up code paths, then measure idle connections.
+        await load.subscribe([f"warm-{i}" for i in range(50)])
+        await load.close()
+        await asyncio.sleep(0.5)
+        before = server.rss_kb()
+        channels = [f"cap-{i % sizes.capacity_channels}" for i in range(sizes.capacity)]
+        opened = await load.subscribe(channels)
+        await asyncio.sleep(1.0)
+        result["kb_per_conn"] = (server.rss_kb() - before) / max(opened, 1)
+        held_before = load.receiver.count
+        for i in range(sizes.capacity_channels):
+            await load.publish(f"cap-{i}")
+        await load.receiver.wait_for(held_before + opened, DELIVERY_TIMEOUT_S)
+        result["held"] = load.receiver.count - held_before
+        await load.close()
+        print(f"  {target}: capacity done ({result['held']:.0f} held)", file=sys.stderr)
+
+        for name, subscribers, channel_of, messages in (
+            ("fanout", ["fan"] * sizes.fanout_subscribers, lambda i: "fan", sizes.fanout_messages),
+            (
+                "pairs",
+                [f"pair-{i // 2}" for i in range(sizes.pair_channels * 2)],
+                lambda i: f"pair-{i % sizes.pair_channels}",
+                sizes.pair_messages,
+            ),
+        ):
+            fanout = sizes.fanout_subscribers if name == "fanout" else 2
+            await load.subscribe(subscribers)
+            rate = await load.saturate(channel_of, messages, fanout)
+            result[f"{name}_rate"] = rate
+            result[f"{name}_p50"], result[f"{name}_p99"] = await load.paced(
+                channel_of, rate / 2, fanout
+            )
+            await load.close()
+            print(f"  {target}: {name} done ({rate:,.0f} msg/s)", file=sys.stderr)
+    return result
+
+
+# ----- report --------------------------------------------------------------------------------
+ROWS = (
+    ("fanout_rate", "fan-out 1->1000, delivered msg/s", "{:,.0f}", True),
+    ("fanout_p50", "  p50 latency at half load, ms", "{:.1f}", False),
+    ("fanout_p99", "  p99 latency at half load, ms", "{:.1f}", False),
+    ("pairs_rate", "1000 channels x 2, delivered msg/s", "{:,.0f}", True),
+    ("pairs_p50", "  p50 latency at half load, ms", "{:.1f}", False),
+    ("pairs_p99", "  p99 latency at half load, ms", "{:.1f}", False),
+    ("kb_per_conn", "memory per idle WebSocket, KB", "{:.1f}", False),
+    ("held", "WebSocket subscribers held", "{:,.0f}", True),
+)
+
+
+def ratio(value: float | None, reference: float | None) -> str:
+    if value is None or reference is None or reference == 0:
+        return "-"
+    return f"{value / reference:.2f}"
+
+
+def report(results: dict[str, dict[str, float] | None], sizes: Sizes) -> None:
+    names = list(results)
+    pairs = [
+        (a, b) for a in ("memory", "redis") for b in ("bare", "nchan") if a in names and b in names
+    ]
+    header = ["metric", *names, *(f"{a}/{b}" for a, b in pairs)]
+    lines = []
+    for key, label, fmt, _ in ROWS:
+        values = {name: (results[name] or {}).get(key) for name in names}
+        cells = [label]
+        cells += [fmt.format(values[n]) if values[n] is not None else "unavailable" for n in names]
+        cells += [ratio(values[a], values[b]) for a, b in pairs]
+        lines.append(cells)
+    widths = [max(len(str(row[i])) for row in [header, *lines]) for i in range(len(header))]
+    for row in [header, *lines]:
+        print("  ".join(str(cell).rjust(width) for cell, width in zip(row, widths, strict=True)))
+    for name in ("memory", "redis"):
+        got, bare = results.get(name), results.get("bare")
+        if not got:
+            continue
+        bars = [
+            f"fan-out >= 80% of bare aiohttp: "
+            f"{ratio(got['fanout_rate'], bare['fanout_rate']) if bare else '-'}",
+            f"{sizes.capacity:,} subscribers held: {got['held']:,.0f}, "
+            f"{got['kb_per_conn']:.1f} KB each (bar 20 KB)",
+            f"p99 at half load: fan-out {got['fanout_p99']:.1f} ms, "
+            f"pairs {got['pairs_p99']:.1f} ms (bar 20 ms)",
+        ]
+        print(f"bars, {name}: " + "; ".join(bars))
+
+
+def raise_fd_limit() -> None:
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    wanted = FD_LIMIT if hard == resource.RLIM_INFINITY else min(FD_LIMIT, hard)
+    if soft < wanted:
+        resource.setrlimit(resource.RLIMIT_NOFILE, (wanted, hard))
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="smaller loads, shorter runs")
+    parser.add_argument("--targets", default=",".join(TARGETS), help="comma-separated subset")
+    parser.add_argument("--serve", choices=("bare", "relay"), help=argparse.SUPPRESS)
+    parser.add_argument("--port", type=int, help=argparse.SUPPRESS)
+    parser.add_argument("--redis", help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    raise_fd_limit()
+    if args.serve:
+        serve(args.serve, args.port, args.redis)
+        return 0
+    sizes = QUICK if args.quick else FULL
+    targets = [t for t in args.targets.split(",") if t]
+    unknown = set(targets) - set(TARGETS)
+    if unknown:
+        parser.error(f"unknown targets: {', '.join(sorted(unknown))}")
+    if "nchan" in targets and shutil.which("nginx") is None and not Path(NGINX).exists():
+        print("nginx not found: apt-get install -y nginx libnginx-mod-nchan", file=sys.stderr)
+    results: dict[str, dict[str, float] | None] = {}
+    for target in targets:
+        with ExitStack() as stack:
+            server = start_target(target, stack)
+            results[target] = (
+                None if server is None else asyncio.run(measure(target, server, sizes))
+            )
+    print(f"sizes: {sizes}")
+    report(results, sizes)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
