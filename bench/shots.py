@@ -81,12 +81,12 @@ def savings(repeat: int) -> None:
     for label, scene in rows:
         shot = simulate(scene)
         print(f"{label:<32} {len(shot.events):>6} {median_ms(scene, repeat):>10.3f}")
-    print(f"\n{'break':<20} {'pairs looked at':>15} {'quartics solved':>15} {'culled':>7}")
+    print(f"\n{'break':<20} {'contacts checked':>16} {'quartics solved':>15} {'culled':>7}")
     for name, make in BREAKS.items():
         sim = Simulation(parse_scene(make()))
         sim.run()
-        culled = 1 - sim.pairs_solved / sim.pairs_checked
-        print(f"{name:<20} {sim.pairs_checked:>15} {sim.pairs_solved:>15} {culled:>7.0%}")
+        culled = 1 - sim.quartics_solved / sim.contacts_checked
+        print(f"{name:<20} {sim.contacts_checked:>16} {sim.quartics_solved:>15} {culled:>7.0%}")
 
 
 def main() -> None:

@@ -13,7 +13,12 @@ from physics.engine import Simulation, SimulationError
 from physics.scene import Scene, SceneError, parse_scene
 from physics.trajectory import Shot
 
+#: Bumped whenever a change to the engine changes the outcome of any shot. A game record or a
+#: leaderboard claim names the version it was played with; another version cannot replay it.
+ENGINE_VERSION = "1"
+
 __all__ = [
+    "ENGINE_VERSION",
     "Scene",
     "SceneError",
     "Shot",

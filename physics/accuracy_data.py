@@ -256,20 +256,18 @@ def speed_vs_error(
     for shot in shots:
         scene = SHOTS[shot]()
         ref, ref_time = _cpu(lambda scene=scene: simulate_scene(scene), repeats)
-
-        def add(method: str, result: dict[str, Any], cpu: float, shot: str = shot) -> None:
+        runs = [("event (reference)", ref, ref_time)]
+        for method, models in CHEAP_MODELS.items():
+            variant = {**scene, "models": models}
+            runs.append((method, *_cpu(lambda v=variant: simulate_scene(v), repeats)))
+        runs.append(("event, cue ball +1e-9 m", simulate_scene(nudged(scene)), ref_time))
+        for dt in steps:
+            runs.append(
+                (f"fixed step dt={dt:g}", *_cpu(lambda s=scene, dt=dt: simulate_fixed(s, dt), 1))
+            )
+        for method, result, cpu in runs:
             row = {"shot": shot, "method": method, "cpu_s": cpu, **position_error(ref, result)}
             rows.append(row)
             if progress:
                 progress(f"{shot:18s} {method:26s} {cpu:9.4f} s {row['rms_mm']:10.3f} mm")
-
-        add("event (reference)", ref, ref_time)
-        for method, models in CHEAP_MODELS.items():
-            variant = {**scene, "models": models}
-            result, cpu = _cpu(lambda v=variant: simulate_scene(v), repeats)
-            add(method, result, cpu)
-        add("event, cue ball +1e-9 m", simulate_scene(nudged(scene)), ref_time)
-        for dt in steps:
-            result, cpu = _cpu(lambda dt=dt: simulate_fixed(scene, dt), 1)
-            add(f"fixed step dt={dt:g}", result, cpu)
     return rows

@@ -120,9 +120,10 @@ class Simulation:
         self.seq = 0
         self.now = 0.0
         self.events: list[Event] = []
-        #: What the shot cost: pairs looked at, and how many of those needed a quartic.
-        self.pairs_checked = 0
-        self.pairs_solved = 0
+        #: What the shot cost: possible contacts with balls and round things (jaws, pockets)
+        #: looked at, and how many of those were not culled and needed a quartic solved.
+        self.contacts_checked = 0
+        self.quartics_solved = 0
 
     # -- state changes -------------------------------------------------------------------
 
@@ -235,44 +236,44 @@ class Simulation:
 
     def _circle_contact(self, b: _Ball, center, radius, horizon):
         dx, dy = b.x - center[0], b.y - center[1]
-        vx, vy, ax, ay = b.vx, b.vy, b.ax, b.ay
-        if path_misses(dx, dy, vx, vy, ax, ay, horizon, radius):
+        return self._contact_time(dx, dy, b.vx, b.vy, b.ax, b.ay, radius, horizon)
+
+    def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
+        if bi.state not in _MOVING and bj.state not in _MOVING:
+            return
+        now = self.now
+        xj, yj, vxj, vyj = bj.at(now)
+        t = self._contact_time(
+            xj - bi.x,
+            yj - bi.y,
+            vxj - bi.vx,
+            vyj - bi.vy,
+            bj.ax - bi.ax,
+            bj.ay - bi.ay,
+            2.0 * self.p.R,
+            min(bi.t_own, bj.t_own) - now,
+        )
+        if t is not None:
+            self._push(now + t, "ball", i, j)
+
+    def _contact_time(self, dx, dy, vx, vy, ax, ay, contact, horizon) -> float | None:
+        """When d(t) = d + v t + a t^2 / 2 first comes within `contact` of the origin.
+
+        (A ball's centre relative to a circle's, or one ball's relative to another's.) The
+        chord test culls most candidates; the rest solve f = |d|^2 - contact^2, a quartic.
+        """
+        self.contacts_checked += 1
+        if path_misses(dx, dy, vx, vy, ax, ay, horizon, contact):
             return None
-        dist = math.hypot(dx, dy)
+        self.quartics_solved += 1
         c = (
-            dx * dx + dy * dy - radius * radius,
+            dx * dx + dy * dy - contact * contact,
             2.0 * (dx * vx + dy * vy),
             vx * vx + vy * vy + dx * ax + dy * ay,
             vx * ax + vy * ay,
             0.25 * (ax * ax + ay * ay),
         )
-        return self._first_contact(c, dist - radius, radius, horizon)
-
-    def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
-        if bi.state not in _MOVING and bj.state not in _MOVING:
-            return
-        self.pairs_checked += 1
-        now = self.now
-        horizon = min(bi.t_own, bj.t_own) - now
-        xj, yj, vxj, vyj = bj.at(now)
-        dx, dy = xj - bi.x, yj - bi.y
-        dvx, dvy = vxj - bi.vx, vyj - bi.vy
-        dax, day = bj.ax - bi.ax, bj.ay - bi.ay
-        D = 2.0 * self.p.R
-        if path_misses(dx, dy, dvx, dvy, dax, day, horizon, D):
-            return
-        self.pairs_solved += 1
-        dist = math.hypot(dx, dy)
-        c = (
-            dx * dx + dy * dy - D * D,
-            2.0 * (dx * dvx + dy * dvy),
-            dvx * dvx + dvy * dvy + dx * dax + dy * day,
-            dvx * dax + dvy * day,
-            0.25 * (dax * dax + day * day),
-        )
-        t = self._first_contact(c, dist - D, D, horizon)
-        if t is not None:
-            self._push(now + t, "ball", i, j)
+        return self._first_contact(c, math.hypot(dx, dy) - contact, contact, horizon)
 
     # -- resolution ----------------------------------------------------------------------
 

@@ -7,19 +7,18 @@ a cushion or a jaw while approaching it is resolved there with the same collisio
 event engine uses (physics.ball_ball, physics.cushion); a ball whose centre enters a pocket's
 capture circle drops. A frame of a browser engine is a handful of such steps ("substeps"); dt
 here is the substep. The method exists to be measured against the event engine (see
-bench/accuracy.py): its error comes from the collisions being found up to a step late and
-from the slide ending within a step, and shrinks roughly in proportion to dt.
+bench/accuracy.py): its error comes from collisions being found up to a step late and slides
+ending within a step, and shrinks roughly in proportion to dt.
 
-The balls are held in numpy arrays so that a step costs the same few array operations however
-many balls move.
+Only moving balls do work in a step, and a ball looks for cushions and jaws only when its next
+position is within a ball's radius of the table's edge, so a step costs a few microseconds
+per moving ball.
 """
 
 from __future__ import annotations
 
 import math
 from typing import Any
-
-import numpy as np
 
 from physics.ball_ball import BALL_BALL_MODELS
 from physics.cushion import CUSHION_MODELS
@@ -41,6 +40,17 @@ def simulate_fixed(scene: Scene | dict[str, Any], dt: float) -> dict[str, Any]:
     return _Run(scene, dt).run()
 
 
+class _Ball:
+    __slots__ = ("name", "pocket", "vx", "vy", "w", "x", "y")
+
+    def __init__(self, name: str, x: float, y: float) -> None:
+        self.name = name
+        self.x, self.y = x, y
+        self.vx = self.vy = 0.0
+        self.w = (0.0, 0.0, 0.0)
+        self.pocket: str | None = None
+
+
 class _Run:
     def __init__(self, scene: Scene, dt: float) -> None:
         p = scene.params
@@ -48,174 +58,159 @@ class _Run:
         self.spin = scene.models.spin
         self.ball_ball = BALL_BALL_MODELS[scene.models.ball_ball if self.spin else "frictionless"]
         self.cushion = CUSHION_MODELS[scene.models.cushion]
-        self.names = list(scene.positions)
-        n = len(self.names)
-        self.x = np.array([scene.positions[k] for k in self.names], dtype=float)
-        self.v = np.zeros((n, 2))
-        self.w = np.zeros((n, 3))
-        self.alive = np.ones(n, dtype=bool)
-        self.pocket: list[str | None] = [None] * n
+        self.balls = [_Ball(k, x, y) for k, (x, y) in scene.positions.items()]
         starts = dict(scene.initial)
         if scene.strike is not None and scene.strike_motion is not None:
             starts[scene.strike.ball] = scene.strike_motion
-        for name, m in starts.items():
-            k = self.names.index(name)
-            self.v[k] = m.v
-            self.w[k] = m.w if self.spin else self._rolling(m.v, 0.0)
-        g = scene.geometry
-        self.segments, self.jaws, self.pockets = g.segments, g.jaws, g.pockets
-        self.seg_p1 = np.array([s.p1 for s in g.segments], dtype=float)
-        self.seg_n = np.array([s.normal for s in g.segments], dtype=float)
-        # Along-segment direction scaled so that the projection runs from 0 to 1.
-        tangent = np.array([s.p2 for s in g.segments], dtype=float) - self.seg_p1
-        self.seg_t = tangent / (tangent**2).sum(axis=1)[:, None]
-        self.jaw_c = np.array([j.center for j in g.jaws], dtype=float).reshape(-1, 2)
-        self.jaw_r = np.array([j.radius for j in g.jaws], dtype=float)
+        for b in self.balls:
+            if b.name in starts:
+                self._set(b, starts[b.name].v, starts[b.name].w)
+        self.geometry = scene.geometry
+        spec = scene.geometry.spec
+        # Beyond these the next position is near enough to an edge to look for cushions/jaws.
+        margin = p.R + max((j.radius for j in scene.geometry.jaws), default=0.0) * 2.0
+        self.inner = (margin, spec.w - margin, margin, spec.l - margin)
 
-    def _rolling(self, v, wz: float) -> tuple[float, float, float]:
-        R = self.p.R
-        return (-v[1] / R, v[0] / R, wz)
+    def _set(self, b: _Ball, v, w) -> None:
+        b.vx, b.vy = v
+        b.w = tuple(w) if self.spin else (-v[1] / self.p.R, v[0] / self.p.R, 0.0)
 
     # -- forces --------------------------------------------------------------------------
 
-    def _forces(self) -> None:
-        """One semi-implicit Euler update of velocities and spins (Han 2005, ERRATA 1-3).
+    def _forces(self, b: _Ball) -> None:
+        """One semi-implicit Euler update of b's velocity and spin (Han 2005, ERRATA 1-3).
 
         A slip that friction would cancel within the step ends the slide exactly there
         (v loses 2/7 of the slip, the ball rolls); a roll or a spin about the vertical that
         would reverse stops at zero.
         """
         p, dt, R = self.p, self.dt, self.p.R
-        v, w = self.v, self.w
-        ux = v[:, 0] - R * w[:, 1]
-        uy = v[:, 1] + R * w[:, 0]
-        slip = np.hypot(ux, uy)
-        slide_step = 3.5 * p.u_s * p.g * dt
-        sliding = slip > slide_step
-        ending = (slip > EPS_SLIP) & ~sliding
-        if ending.any():  # the slide ends within this step
-            v[ending, 0] -= ux[ending] / 3.5
-            v[ending, 1] -= uy[ending] / 3.5
-            w[ending, 0] = -v[ending, 1] / R
-            w[ending, 1] = v[ending, 0] / R
-        if sliding.any():
-            k = p.u_s * p.g * dt / slip[sliding]
-            ex, ey = ux[sliding] * k, uy[sliding] * k
-            v[sliding, 0] -= ex
-            v[sliding, 1] -= ey
-            w[sliding, 0] -= 2.5 * ey / R
-            w[sliding, 1] += 2.5 * ex / R
-        rolling = ~sliding & ~ending
-        speed = np.hypot(v[:, 0], v[:, 1])
-        roll_step = p.u_r * p.g * dt
-        stops = rolling & (speed <= roll_step) & (speed > 0.0)
-        v[stops] = 0.0
-        rolls = rolling & (speed > roll_step)
-        if rolls.any():
-            k = 1.0 - roll_step / speed[rolls]
-            v[rolls] *= k[:, None]
-        w[rolling, 0] = -v[rolling, 1] / R
-        w[rolling, 1] = v[rolling, 0] / R
+        wx, wy, wz = b.w
+        ux, uy = b.vx - R * wy, b.vy + R * wx
+        slip = math.hypot(ux, uy)
+        if slip > 3.5 * p.u_s * p.g * dt:
+            k = p.u_s * p.g * dt / slip
+            b.vx -= k * ux
+            b.vy -= k * uy
+            wx -= 2.5 * k * uy / R
+            wy += 2.5 * k * ux / R
+        else:
+            if slip > EPS_SLIP:  # the slide ends within this step
+                b.vx -= ux / 3.5
+                b.vy -= uy / 3.5
+            speed = math.hypot(b.vx, b.vy)
+            step = p.u_r * p.g * dt
+            if speed <= step:
+                b.vx = b.vy = 0.0
+            else:
+                b.vx *= 1.0 - step / speed
+                b.vy *= 1.0 - step / speed
+            wx, wy = -b.vy / R, b.vx / R
         spin_step = 2.5 * p.u_sp * p.g / R * dt
-        wz = w[:, 2]
-        w[:, 2] = np.where(np.abs(wz) <= spin_step, 0.0, wz - np.sign(wz) * spin_step)
+        wz = 0.0 if abs(wz) <= spin_step else wz - math.copysign(spin_step, wz)
+        b.w = (wx, wy, wz)
 
     # -- collisions ----------------------------------------------------------------------
 
-    def _collide(self) -> None:
-        """Resolve the contacts the next position step would make: ball pairs in index order,
-        then each ball's cushions and jaws. The candidates are found with array operations."""
-        dt, R = self.dt, self.p.R
-        moving = self.alive & (np.abs(self.v).sum(axis=1) > 0.0)
-        if not moving.any():
-            return
-        nxt = self.x + self.v * dt
-        d = nxt[:, None, :] - nxt[None, :, :]
-        close = (d[..., 0] ** 2 + d[..., 1] ** 2) < (2.0 * R) ** 2
-        close &= self.alive[:, None] & self.alive[None, :]
-        close &= moving[:, None] | moving[None, :]
-        for i, j in zip(*np.nonzero(np.triu(close, 1)), strict=True):
-            self._ball_ball(int(i), int(j))
-        nxt = self.x + self.v * dt
-        rel = nxt[:, None, :] - self.seg_p1[None, :, :]
-        depth = (rel * self.seg_n).sum(axis=2)
-        along = (rel * self.seg_t).sum(axis=2)
-        into = self.v @ self.seg_n.T < 0.0
-        hits = moving[:, None] & into & (depth < R) & (along >= 0.0) & (along <= 1.0)
-        for i, k in zip(*np.nonzero(hits), strict=True):
-            n = self.segments[k].normal
-            if self.v[i, 0] * n[0] + self.v[i, 1] * n[1] < 0.0:  # not already bounced
-                self._bounce(int(i), n)
-        if not len(self.jaws):
-            return
-        nxt = self.x + self.v * dt
-        near = np.hypot(*(nxt[:, None, :] - self.jaw_c[None, :, :]).transpose(2, 0, 1))
-        for i, k in zip(*np.nonzero(moving[:, None] & (near < self.jaw_r + R)), strict=True):
-            n = self.x[i] - self.jaw_c[k]
-            n = n / math.hypot(*n)
-            if self.v[i, 0] * n[0] + self.v[i, 1] * n[1] < 0.0:
-                self._bounce(int(i), (float(n[0]), float(n[1])))
+    def _collide(self, moving: list[_Ball], on_table: list[_Ball]) -> None:
+        """Resolve the contacts the next position step would make: each moving ball with
+        every other ball (each pair once), then its cushions and jaws."""
+        dt, D2 = self.dt, (2.0 * self.p.R) ** 2
+        done = set()
+        for a in moving:
+            done.add(a.name)
+            for b in on_table:
+                if b.name in done:
+                    continue
+                dx = (b.x + b.vx * dt) - (a.x + a.vx * dt)
+                dy = (b.y + b.vy * dt) - (a.y + a.vy * dt)
+                if dx * dx + dy * dy < D2:
+                    self._ball_ball(a, b)
+        x0, x1, y0, y1 = self.inner
+        for a in moving:
+            fx, fy = a.x + a.vx * dt, a.y + a.vy * dt
+            if not (x0 < fx < x1 and y0 < fy < y1):
+                self._table(a, fx, fy)
 
-    def _ball_ball(self, i: int, j: int) -> None:
-        dx, dy = self.x[j] - self.x[i]
+    def _ball_ball(self, a: _Ball, b: _Ball) -> None:
+        dx, dy = b.x - a.x, b.y - a.y
         dist = math.hypot(dx, dy)
         n = (dx / dist, dy / dist)
-        va, wa, vb, wb = self.ball_ball(
-            tuple(self.v[i]), tuple(self.w[i]), tuple(self.v[j]), tuple(self.w[j]), n, self.p
-        )
-        self._set(i, va, wa)
-        self._set(j, vb, wb)
+        va, wa, vb, wb = self.ball_ball((a.vx, a.vy), a.w, (b.vx, b.vy), b.w, n, self.p)
+        self._set(a, va, wa)
+        self._set(b, vb, wb)
 
-    def _set(self, i: int, v, w) -> None:
-        self.v[i] = v
-        self.w[i] = w if self.spin else self._rolling(v, 0.0)
+    def _table(self, b: _Ball, fx: float, fy: float) -> None:
+        R = self.p.R
+        for seg in self.geometry.segments:
+            nx, ny = seg.normal
+            if b.vx * nx + b.vy * ny >= 0.0:
+                continue
+            if (fx - seg.p1[0]) * nx + (fy - seg.p1[1]) * ny >= R:
+                continue
+            tx, ty = seg.p2[0] - seg.p1[0], seg.p2[1] - seg.p1[1]
+            s = ((fx - seg.p1[0]) * tx + (fy - seg.p1[1]) * ty) / (tx * tx + ty * ty)
+            if 0.0 <= s <= 1.0:
+                self._bounce(b, (nx, ny))
+        for jaw in self.geometry.jaws:
+            cx, cy = jaw.center
+            if math.hypot(fx - cx, fy - cy) < jaw.radius + R:
+                nx, ny = b.x - cx, b.y - cy
+                norm = math.hypot(nx, ny)
+                if b.vx * nx + b.vy * ny < 0.0:
+                    self._bounce(b, (nx / norm, ny / norm))
 
-    def _bounce(self, i: int, normal: tuple[float, float]) -> None:
-        v, w = tuple(self.v[i]), tuple(self.w[i])
+    def _bounce(self, b: _Ball, normal: tuple[float, float]) -> None:
+        v = (b.vx, b.vy)
         if self.spin:
-            v, w = self.cushion(v, w, normal, self.p, self.scene.sin_theta)
+            v, w = self.cushion(v, b.w, normal, self.p, self.scene.sin_theta)
         else:
             k = (1.0 + self.p.e_c) * (v[0] * normal[0] + v[1] * normal[1])
-            v = (v[0] - k * normal[0], v[1] - k * normal[1])
-        self._set(i, v, w)
+            v, w = (v[0] - k * normal[0], v[1] - k * normal[1]), b.w
+        self._set(b, v, w)
 
-    def _drop(self) -> None:
-        for pocket in self.pockets:
-            d = np.hypot(self.x[:, 0] - pocket.center[0], self.x[:, 1] - pocket.center[1])
-            for i in np.nonzero(self.alive & (d < pocket.radius))[0]:
-                self.alive[i] = False
-                self.pocket[i] = pocket.name
-                self.v[i] = 0.0
-                self.w[i] = 0.0
+    def _drop(self, b: _Ball) -> bool:
+        for pocket in self.geometry.pockets:
+            if math.hypot(b.x - pocket.center[0], b.y - pocket.center[1]) < pocket.radius:
+                b.pocket = pocket.name
+                b.vx = b.vy = 0.0
+                b.w = (0.0, 0.0, 0.0)
+                return True
+        return False
 
     # -- the loop ------------------------------------------------------------------------
 
     def run(self) -> dict[str, Any]:
         dt = self.dt
+        on_table = list(self.balls)
         steps = 0
-        t = 0.0
-        last_motion = 0.0
-        while t < MAX_TIME:
-            self._forces()
-            self._collide()
-            self.x += self.v * dt
-            self._drop()
-            steps += 1
-            t = steps * dt
-            if np.abs(self.v[self.alive]).sum() > 0.0:
-                last_motion = t
-            else:
+        while steps * dt < MAX_TIME:
+            for b in on_table:
+                wx, wy, wz = b.w
+                if b.vx or b.vy or wx or wy:
+                    self._forces(b)
+                elif wz:
+                    self._forces(b)  # spinning in place: only w_z changes
+            moving = [b for b in on_table if b.vx or b.vy]
+            if not moving:
                 break
+            self._collide(moving, on_table)
+            for b in moving:
+                b.x += b.vx * dt
+                b.y += b.vy * dt
+            if self.geometry.pockets and any(self._drop(b) for b in moving):
+                on_table = [b for b in on_table if b.pocket is None]
+            steps += 1
         final = {}
-        for k, name in enumerate(self.names):
-            if not self.alive[k]:
-                final[name] = {"pos": None, "state": "pocketed", "pocket": self.pocket[k]}
+        for b in self.balls:
+            if b.pocket is not None:
+                final[b.name] = {"pos": None, "state": "pocketed", "pocket": b.pocket}
             else:
-                state = "spinning" if abs(self.w[k, 2]) > 0.0 else "stationary"
-                final[name] = {"pos": tuple(map(float, self.x[k])), "state": state, "pocket": None}
+                state = "spinning" if b.w[2] else "stationary"
+                final[b.name] = {"pos": (b.x, b.y), "state": state, "pocket": None}
         return {
             "final": final,
-            "duration": last_motion,
+            "duration": steps * dt,
             "steps": steps,
             "models": {
                 "ball_ball": self.scene.models.ball_ball,

@@ -14,6 +14,7 @@ from typing import Annotated
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from physics import ENGINE_VERSION
 from rules import eightball, nineball, snooker, three_cushion
 from rules.inputs import Choice, PlayerInput, Shot
 from rules.racks import GameName
@@ -41,6 +42,7 @@ class Setup(BaseModel):
 
     gap: the largest extra space between rack balls (m), see `rules.racks`.
     target: three-cushion points to win (0 = the default of 15); ignored by the other games.
+    engine: the physics engine version the game is played with (physics.ENGINE_VERSION).
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
@@ -49,6 +51,7 @@ class Setup(BaseModel):
     seed: Annotated[int, Field(ge=0, lt=2**63)]
     gap: Annotated[float, Field(ge=0.0, le=0.005, allow_inf_nan=False)] = 0.0
     target: Annotated[int, Field(ge=0, le=1000)] = 0
+    engine: str = ENGINE_VERSION
 
 
 def start(setup: Setup) -> State:

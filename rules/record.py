@@ -11,9 +11,10 @@ from typing import Annotated
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from physics import ENGINE_VERSION
 from rules.game import Setup, Simulate, default_simulate, play, start
 from rules.inputs import PlayerInput
-from rules.state import Decision, State
+from rules.state import Decision, RuleError, State
 
 #: More inputs than any real game needs: a record this long is refused, not replayed.
 MAX_INPUTS = 5000
@@ -56,7 +57,12 @@ class Replay(BaseModel):
 
 
 def replay(record: GameRecord, simulate: Simulate = default_simulate) -> Replay:
-    """Play the record's inputs from its rack; raises RuleError at the first illegal input."""
+    """Play the record's inputs from its rack; raises RuleError at the first illegal input,
+    or at once for a record played under another engine version (it would not replay)."""
+    if record.setup.engine != ENGINE_VERSION:
+        raise RuleError(
+            f"record played with engine {record.setup.engine}, this is engine {ENGINE_VERSION}"
+        )
     state = first = start(record.setup)
     steps = []
     for action in record.inputs:

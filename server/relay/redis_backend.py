@@ -245,6 +245,7 @@ class RedisBackend(Backend):
             url,
             retry=Retry(NoBackoff(), 0),
             max_connections=MAX_READERS,
+            socket_timeout=READ_BLOCK_MS / 1000 + 10,  # longer than a blocked XREAD
             socket_keepalive=True,
             driver_info=None,
         )

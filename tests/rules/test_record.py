@@ -92,3 +92,9 @@ def test_states_round_trip_through_json_exactly():
     after, _ = play(state, shot, scripted([hit("cue", "pink"), rail("pink")]))
     assert after.retake is not None and "replace" in after.pending
     assert State.model_validate_json(after.model_dump_json()) == after
+
+
+def test_a_record_from_another_engine_version_is_refused():
+    record = GameRecord(setup=Setup(game="nineball", seed=1, engine="0"))
+    with pytest.raises(RuleError, match="engine 0"):
+        replay(record)
