@@ -272,6 +272,10 @@ class Receiver:
     recording: bool = False
     latencies_ms: list[float] = field(default_factory=list)
 
+    def reset(self) -> None:
+        self.count, self.last_ns, self.recording = 0, 0, False
+        self.latencies_ms.clear()
+
     def take(self, data: str | bytes) -> None:
         now = time.monotonic_ns()
         self.count += 1
@@ -417,6 +421,10 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
         ):
             fanout = sizes.fanout_subscribers if name == "fanout" else 2
             await load.subscribe(subscribers)
+            # One message per channel first: a WebSocket handshake can complete before the
+            # server has set the subscription up, and the measurement starts once all are live.
+            await load.saturate(channel_of, len(set(subscribers)), fanout)
+            load.receiver.reset()
             rate = await load.saturate(channel_of, messages, fanout)
             result[f"{name}_rate"] = rate
             result[f"{name}_p50"], result[f"{name}_p99"] = await load.paced(

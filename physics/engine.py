@@ -308,7 +308,7 @@ class Simulation:
         vn_in = -(v[0] * normal[0] + v[1] * normal[1])
         if vn_in < REST_SPEED:
             # Resting against the cushion: no rebound, and a slide that presses the ball into
-            # the cushion is finished at once (see _collide_balls).
+            # the cushion is finished at once (as between two balls, see _rest).
             vn_out = v_new[0] * normal[0] + v_new[1] * normal[1]
             v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
             (ax, ay), state = self._accel(v_new, w_new)

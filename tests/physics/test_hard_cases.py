@@ -235,3 +235,17 @@ def test_triangle_is_frozen():
     pts = triangle((0.5, 1.0), 5, R)
     dists = [math.dist(a, b) for k, a in enumerate(pts) for b in pts[k + 1 :]]
     assert min(dists) == pytest.approx(2 * R, abs=1e-15)
+
+
+def test_touching_balls_moving_apart_never_collide():
+    """Frozen together and sent apart (one rolling away, one sliding back): no contact."""
+    balls = {"a": [0.6, 1.0], "b": [0.6, 1.0 + 2 * R]}
+    shot = run(
+        balls,
+        initial={
+            "a": {"v": [0.0, -1.0], "w": [1.0 / R, 0.0, 0.0]},
+            "b": {"v": [0.0, 0.5], "w": [0.0, 0.0, 0.0]},
+        },
+    )
+    assert not events_of(shot, "ball_ball")
+    assert_sane(shot)
