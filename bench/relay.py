@@ -14,6 +14,10 @@ this process is the load generator. For each target, on a freshly started server
 4. For 2 and 3, a paced run at half the measured delivery rate gives the p50/p99
    publish-to-deliver latency (the payload carries its send time; one clock, one process).
 
+Between phases the bench waits until the server's CPU time stops growing, so that closing one
+phase's connections does not slow the next; before each measurement one message per channel
+checks that every subscription is live.
+
 The relay runs with every feature on (token check, payload validation, bounded send queues,
 Redis AOF with fsync on every write) except that the publish rate limit is raised: the load
 generator is one publisher. The bare forwarder is the ceiling of this stack: an aiohttp app that
@@ -60,6 +64,7 @@ FD_LIMIT = 20_000
 START_TIMEOUT_S = 15.0
 DELIVERY_TIMEOUT_S = 20.0  # after the last publish, waiting for stragglers
 CONNECT_CONCURRENCY = 200
+SETTLE_TIMEOUT_S = 30.0
 PAD = "x" * 64
 
 
@@ -152,6 +157,12 @@ def rss_kb(pid: int) -> int:
     return 0
 
 
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time of a process (fields 14 and 15 of /proc/PID/stat)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def children(pid: int) -> list[int]:
     path = Path(f"/proc/{pid}/task/{pid}/children")
     return [int(child) for child in path.read_text().split()] if path.exists() else []
@@ -171,6 +182,19 @@ class ServerProcess(AbstractContextManager["ServerProcess"]):
 
     def rss_kb(self) -> int:
         return sum(rss_kb(pid) for pid in self.measured_pids())
+
+    def cpu_seconds(self) -> float:
+        return sum(cpu_seconds(pid) for pid in self.measured_pids())
+
+    async def settle(self) -> None:
+        """Wait until the server is idle (done closing the last phase's connections)."""
+        deadline = time.monotonic() + SETTLE_TIMEOUT_S
+        used = self.cpu_seconds()
+        while time.monotonic() < deadline:
+            await asyncio.sleep(0.5)
+            used, before = self.cpu_seconds(), used
+            if used - before < 0.05:
+                return
 
     def __exit__(self, *exc_info: object) -> None:
         self.process.send_signal(signal.SIGINT if self.what != "nchan" else signal.SIGQUIT)
@@ -396,7 +420,7 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
         # Warm up code paths, then measure idle connections.
         await load.subscribe([f"warm-{i}" for i in range(50)])
         await load.close()
-        await asyncio.sleep(0.5)
+        await server.settle()
         before = server.rss_kb()
         channels = [f"cap-{i % sizes.capacity_channels}" for i in range(sizes.capacity)]
         opened = await load.subscribe(channels)
@@ -408,6 +432,7 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
         await load.receiver.wait_for(held_before + opened, DELIVERY_TIMEOUT_S)
         result["held"] = load.receiver.count - held_before
         await load.close()
+        await server.settle()
         print(f"  {target}: capacity done ({result['held']:.0f} held)", file=sys.stderr)
 
         for name, subscribers, channel_of, messages in (
@@ -431,6 +456,7 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
                 channel_of, rate / 2, fanout
             )
             await load.close()
+            await server.settle()
             print(f"  {target}: {name} done ({rate:,.0f} msg/s)", file=sys.stderr)
     return result
 
@@ -496,6 +522,7 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="smaller loads, shorter runs")
     parser.add_argument("--targets", default=",".join(TARGETS), help="comma-separated subset")
+    parser.add_argument("--repeat", type=int, default=1, help="runs per target (medians)")
     parser.add_argument("--serve", choices=("bare", "relay"), help=argparse.SUPPRESS)
     parser.add_argument("--port", type=int, help=argparse.SUPPRESS)
     parser.add_argument("--redis", help=argparse.SUPPRESS)
@@ -511,16 +538,25 @@ def main() -> int:
         parser.error(f"unknown targets: {', '.join(sorted(unknown))}")
     if "nchan" in targets and shutil.which("nginx") is None and not Path(NGINX).exists():
         print("nginx not found: apt-get install -y nginx libnginx-mod-nchan", file=sys.stderr)
-    results: dict[str, dict[str, float] | None] = {}
-    for target in targets:
-        with ExitStack() as stack:
-            server = start_target(target, stack)
-            results[target] = (
-                None if server is None else asyncio.run(measure(target, server, sizes))
-            )
-    print(f"sizes: {sizes}")
-    report(results, sizes)
+    runs: dict[str, list[dict[str, float]]] = {target: [] for target in targets}
+    for round_ in range(args.repeat):
+        # Rotate the order so that a slow spell of the shared machine hits every target.
+        shift = round_ % len(targets)
+        for target in targets[shift:] + targets[:shift]:
+            with ExitStack() as stack:
+                server = start_target(target, stack)
+                if server is not None:
+                    runs[target].append(asyncio.run(measure(target, server, sizes)))
+    print(f"sizes: {sizes}, medians of {args.repeat} run(s) per target")
+    report({target: median_run(measured) for target, measured in runs.items()}, sizes)
     return 0
+
+
+def median_run(measured: list[dict[str, float]]) -> dict[str, float] | None:
+    """Each metric's median over the runs of one target (None: the target never ran)."""
+    if not measured:
+        return None
+    return {key: statistics.median(run[key] for run in measured) for key in measured[0]}
 
 
 if __name__ == "__main__":

@@ -119,7 +119,7 @@ def rebound_curves(
 
 
 def motion_profile(
-    v0: float = 2.0, top: float = -0.5, side: float = 1.0, samples: int = 400
+    v0: float = 1.0, top: float = -0.5, side: float = 3.0, samples: int = 400
 ) -> dict[str, Any]:
     """Speed and spin against time of one ball on an open carom table, from the engine's
     trajectory segments. The ball starts at v0 along +y with spin w_x = top * v0 / R (negative
@@ -137,7 +137,7 @@ def motion_profile(
     times, speed, w_roll, w_z, states = [], [], [], [], []
     for k in range(samples + 1):
         t = end * k / samples
-        seg = max((s for s in segments if s.t <= t), key=lambda s: s.t)
+        seg = [s for s in segments if s.t <= t][-1]  # the last segment begun by t
         tau = t - seg.t
         if seg.state in ("stationary", "pocketed"):
             tau = 0.0

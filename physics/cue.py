@@ -24,9 +24,10 @@ from physics.params import Params
 MAX_SPEED = 12.0
 
 #: Largest tip offset from the ball's centre, as a fraction of R, that does not miscue.
-#: Alciatore's measurements (TP A.30/A.31, "maximum spin and miscue limit") put the limit near
-#: half the radius: there the tip meets the surface at asin(0.5) = 30 degrees from the normal,
-#: and tan(30 degrees) = 0.58 is about the friction a chalked tip can hold.
+#: Alciatore's measurements of the miscue limit (his technical proofs on maximum spin; the
+#: figure is also what pooltool and most games use) put it near half the radius: there the tip
+#: meets the surface 30 degrees (asin 0.5) from the normal, and tan(30 degrees) = 0.58 is about
+#: the friction a chalked tip can hold.
 MISCUE_LIMIT = 0.5
 
 #: Largest cue elevation accepted (degrees above horizontal).

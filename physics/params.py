@@ -27,7 +27,8 @@ class Params:
     throw_a, throw_b, throw_c: Alciatore's ball-ball friction fit mu(v) = a + b exp(-c v)
         where v is the contact-point slip speed (errata 4).
     m_cue: cue mass (kg) for the cue strike model.
-    mathavan_steps: impulse steps per phase of the Mathavan cushion integration.
+    mathavan_steps: Runge-Kutta steps of the Mathavan cushion integration over the impulse a
+        frictionless compression would take (shorter steps are taken where slips need them).
     """
 
     R: float = 0.028575

@@ -11,7 +11,7 @@ import argparse
 import importlib
 import sys
 
-REGISTRARS = ("physics.cli", "server.serve", "rules.cli")
+REGISTRARS = ("physics.cli", "server.serve", "rules.cli", "physics.diagrams_cli")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -13,6 +13,7 @@ from collections.abc import AsyncIterator, Callable
 import pytest
 import redis.asyncio as aioredis
 
+from server.relay import redis_backend
 from server.relay.backend import BackendConfig, Start
 from server.relay.ids import parse_message_id
 from server.relay.messages import ChannelClosed, Event, Gap, StoredMessage
@@ -64,7 +65,9 @@ async def make_backend(redis_url: str) -> AsyncIterator[MakeBackend]:
         await backend.close()
 
 
-async def publish_many(backend: RedisBackend, channel: str, count: int, start: int = 0) -> list[str]:
+async def publish_many(
+    backend: RedisBackend, channel: str, count: int, start: int = 0
+) -> list[str]:
     ids = []
     for n in range(start, start + count):
         published = await backend.publish(channel, b'{"n": %d}' % n, "application/json")
@@ -163,6 +166,23 @@ async def test_subscribers_count_only_while_their_replica_lives(make_backend: Ma
     await second.close()  # a replica shutting down withdraws its subscribers
     info = await first.info("match")
     assert info is not None and info.subscribers == 0
+
+
+async def test_a_silent_replica_stops_counting(
+    make_backend: MakeBackend, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(redis_backend, "HEARTBEAT_S", 0.1)
+    monkeypatch.setattr(redis_backend, "ALIVE_S", 0.6)
+    observer, crashing = make_backend(), make_backend()
+    await crashing.subscribe("match", Collector())
+    await asyncio.sleep(1.0)  # several heartbeats: still alive, still counted
+    info = await observer.info("match")
+    assert info is not None and info.subscribers == 1
+
+    assert crashing._heartbeat is not None
+    crashing._heartbeat.cancel()  # the replica hangs or dies without a word
+    await asyncio.sleep(1.0)
+    assert await observer.info("match") is None
 
 
 async def test_one_redis_reader_per_channel_per_replica(
