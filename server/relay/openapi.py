@@ -1,7 +1,7 @@
 """The OpenAPI description of the relay's HTTP endpoints, its schemas taken from the models.
 
 WebSocket and EventSource are described as what they are on HTTP (an upgrade, a text stream);
-their framing is documented in `server/relay/README-relay.md`.
+their framing is documented in the README (The message relay).
 """
 
 from __future__ import annotations
