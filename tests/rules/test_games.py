@@ -16,7 +16,7 @@ from rules.spots import is_free, on_table
 from rules.state import State
 
 #: (game, seed, gap, target): one whole game each. Pool games are cheap, so several racks;
-#: snooker seeds avoid break-offs the engine currently gives up on (reported to the lead).
+#: snooker with a frozen rack too, the break-off the engine once gave up on.
 GAMES = [
     ("nineball", 0, 0.0002, 0),
     ("nineball", 3, 0.0, 0),
@@ -24,7 +24,8 @@ GAMES = [
     ("eightball", 0, 0.0, 0),
     ("eightball", 4, 0.0002, 0),
     ("eightball", 8, 0.0, 0),
-    ("snooker", 6, 0.0002, 0),
+    ("snooker", 0, 0.0, 0),
+    ("snooker", 2, 0.0002, 0),
     ("snooker", 4, 0.001, 0),
     ("three_cushion", 4, 0.0, 5),
 ]
