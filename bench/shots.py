@@ -1,6 +1,9 @@
 """Time the event engine on the breaks: events, median wall time, and the first call.
 
-    .venv/bin/python bench/shots.py [--repeat N]
+    .venv/bin/python bench/shots.py [--repeat N] [--pooltool-python PY]
+
+With --pooltool-python (e.g. a venv made by `python3 -m venv /tmp/pt && /tmp/pt/bin/pip
+install pooltool-billiards`) it also times pooltool's own nine-ball break in the same run.
 
 The first-call time is measured in a fresh interpreter (import, then one shot), so it shows
 any warm-up or JIT cost a server would pay on its first request. Also shown: what the cheaper
@@ -32,6 +35,30 @@ t1 = time.perf_counter()
 simulate(BREAKS[sys.argv[1]]())
 t2 = time.perf_counter()
 print(t1 - t0, t2 - t1)
+"""
+
+#: The same kind of shot in pooltool (ekiefl/pooltool, a numba event engine), run with another
+#: interpreter that has it installed: its own nine-ball rack and table, cue ball at 8 m/s into
+#: the 1 with a little follow. Prints: first call (s), median (s), events.
+POOLTOOL = """
+import statistics, sys, time
+import pooltool as pt
+
+def shot():
+    table = pt.Table.from_game_type(pt.GameType.NINEBALL)
+    system = pt.System(
+        table=table, balls=pt.get_rack(pt.GameType.NINEBALL, table), cue=pt.Cue(cue_ball_id="cue")
+    )
+    system.strike(V0=float(sys.argv[1]), phi=pt.aim.at_ball(system, "1"), b=0.1)
+    return system
+
+times = []
+for _ in range(int(sys.argv[2]) + 1):
+    system = shot()
+    t0 = time.perf_counter()
+    pt.simulate(system, inplace=True)
+    times.append(time.perf_counter() - t0)
+print(times[0], statistics.median(times[1:]), len(system.events))
 """
 
 VARIANTS = {
@@ -89,9 +116,29 @@ def savings(repeat: int) -> None:
         print(f"{name:<20} {sim.contacts_checked:>16} {sim.quartics_solved:>15} {culled:>7.0%}")
 
 
+def pooltool(python: str, speed: float, repeat: int) -> None:
+    """pooltool's nine-ball break beside ours, in the same run."""
+    out = subprocess.run(
+        [python, "-c", POOLTOOL, str(speed), str(repeat)],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.split()
+    first, median, events = float(out[0]), float(out[1]), int(out[2])
+    ours = median_ms(BREAKS["nineball_break"](speed=speed), repeat)
+    print(f"\n{'nine-ball break':<20} {'events':>6} {'median ms':>10} {'1st call ms':>11}")
+    print(f"{'pooltool':<20} {events:>6} {1e3 * median:>10.1f} {1e3 * first:>11.0f}")
+    ratio = 1e3 * median / ours
+    print(f"{'this engine':<20} {'':>6} {ours:>10.1f}   (pooltool / this engine: {ratio:.0f}x)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=30)
+    parser.add_argument(
+        "--pooltool-python",
+        help="an interpreter with pooltool-billiards installed, to time it beside this engine",
+    )
     parser.add_argument("--speed", type=float, default=8.0, help="break speed (m/s)")
     args = parser.parse_args()
     print(f"break speed {args.speed} m/s, median of {args.repeat} runs per row\n")
@@ -112,6 +159,8 @@ def main() -> None:
                 row += f" {len(shot.to_msgpack()):>9} {imp:>9.1f} {first:>11.1f}"
             print(row)
     savings(args.repeat)
+    if args.pooltool_python:
+        pooltool(args.pooltool_python, args.speed, args.repeat)
 
 
 if __name__ == "__main__":
