@@ -1,6 +1,6 @@
 """Relay benchmark: the relay (memory and Redis backends) beside a bare aiohttp forwarder and nchan.
 
-    .venv/bin/python bench/relay.py [--quick] [--targets memory,redis,bare,nchan]
+    .venv/bin/python bench/relay.py [--quick] [--repeat N] [--targets memory,redis,bare,...]
 
 Every target runs as its own server process on 127.0.0.1 (one process / one nginx worker);
 this process is the load generator. For each target, on a freshly started server:
@@ -23,6 +23,9 @@ Redis AOF with fsync on every write) except that the publish rate limit is raise
 generator is one publisher. The bare forwarder is the ceiling of this stack: an aiohttp app that
 only copies POSTed bytes to the channel's WebSockets. nchan is Debian's nginx +
 libnginx-mod-nchan with a generated config; its row reads "unavailable" if nginx is missing.
+The `-uvloop` targets are the same servers on uvloop's event loop (`billiards serve --uvloop`);
+they read "unavailable" if uvloop is not installed. Ratios compare a relay with the bare
+forwarder on the same loop, and the uvloop relay with the asyncio bare forwarder too.
 
 The machine is shared and small: figures are noisy, compare columns of one run only.
 """
@@ -31,6 +34,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import importlib.util
 import json
 import os
 import resource
@@ -57,7 +61,10 @@ if str(ROOT) not in sys.path:
 
 SECRET = "bench-relay-secret-0123456789"
 HOST = "127.0.0.1"
-TARGETS = ("memory", "redis", "bare", "nchan")
+RELAYS = ("memory", "redis", "memory-uvloop", "redis-uvloop")
+REFERENCES = ("bare", "nchan", "bare-uvloop")
+TARGETS = ("memory", "redis", "bare", "nchan", "memory-uvloop", "redis-uvloop", "bare-uvloop")
+UVLOOP = "-uvloop"
 NGINX = "/usr/sbin/nginx"
 NCHAN_MODULE = "/usr/lib/nginx/modules/ngx_nchan_module.so"
 FD_LIMIT = 20_000
@@ -132,10 +139,13 @@ def relay_app(redis_url: str | None) -> web.Application:
     return create_app(AppSettings(relay=relay, redis_url=redis_url))
 
 
-def serve(kind: str, port: int, redis_url: str | None) -> None:
+def serve(kind: str, port: int, redis_url: str | None, use_uvloop: bool) -> None:
     """Entry point of a server process (`--serve`)."""
+    from server.serve import new_event_loop
+
     app = bare_app() if kind == "bare" else relay_app(redis_url)
-    web.run_app(app, host=HOST, port=port, print=None, access_log=None)
+    loop = new_event_loop(use_uvloop)
+    web.run_app(app, host=HOST, port=port, print=None, access_log=None, loop=loop)
 
 
 def wait_for_port(port: int, process: subprocess.Popen[bytes], what: str) -> None:
@@ -263,17 +273,21 @@ def start_target(target: str, stack: ExitStack) -> ServerProcess | None:
         )
         args = [NGINX, "-p", str(directory), "-c", str(conf), "-e", str(directory / "error.log")]
         return stack.enter_context(NginxProcess(args, "nchan", port))
+    base, use_uvloop = target.removesuffix(UVLOOP), target.endswith(UVLOOP)
+    if use_uvloop and importlib.util.find_spec("uvloop") is None:
+        return None
     redis_url = None
-    if target == "redis":
+    if base == "redis":
         from tests.redis_server import RedisServer
 
         redis = RedisServer(Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="r-"))))
         redis.start()
         stack.callback(redis.stop)
         redis_url = redis.url
-    kind = "bare" if target == "bare" else "relay"
+    kind = "bare" if base == "bare" else "relay"
     args = [sys.executable, __file__, "--serve", kind, "--port", str(port)]
     args += ["--redis", redis_url] if redis_url else []
+    args += ["--uvloop"] if use_uvloop else []
     return stack.enter_context(ServerProcess(args, target, port))
 
 
@@ -480,24 +494,42 @@ def ratio(value: float | None, reference: float | None) -> str:
     return f"{value / reference:.2f}"
 
 
+def compared(names: list[str]) -> list[tuple[str, str]]:
+    """(relay, reference) pairs to show as ratios: same event loop, or nchan, or uvloop relay
+    against the asyncio bare forwarder."""
+    return [
+        (relay, reference)
+        for relay in RELAYS
+        for reference in REFERENCES
+        if relay in names
+        and reference in names
+        and (reference in ("nchan", "bare") or relay.endswith(UVLOOP) == reference.endswith(UVLOOP))
+    ]
+
+
+def print_table(header: list[str], lines: list[list[str]]) -> None:
+    widths = [max(len(row[i]) for row in [header, *lines]) for i in range(len(header))]
+    for row in [header, *lines]:
+        print("  ".join(cell.rjust(width) for cell, width in zip(row, widths, strict=True)))
+
+
 def report(results: dict[str, dict[str, float] | None], sizes: Sizes) -> None:
     names = list(results)
-    pairs = [
-        (a, b) for a in ("memory", "redis") for b in ("bare", "nchan") if a in names and b in names
-    ]
-    header = ["metric", *names, *(f"{a}/{b}" for a, b in pairs)]
-    lines = []
+    pairs = compared(names)
+    values, ratios = [], []
     for key, label, fmt, _ in ROWS:
-        values = {name: (results[name] or {}).get(key) for name in names}
-        cells = [label]
-        cells += [fmt.format(values[n]) if values[n] is not None else "unavailable" for n in names]
-        cells += [ratio(values[a], values[b]) for a, b in pairs]
-        lines.append(cells)
-    widths = [max(len(str(row[i])) for row in [header, *lines]) for i in range(len(header))]
-    for row in [header, *lines]:
-        print("  ".join(str(cell).rjust(width) for cell, width in zip(row, widths, strict=True)))
-    for name in ("memory", "redis"):
-        got, bare = results.get(name), results.get("bare")
+        got = {name: (results[name] or {}).get(key) for name in names}
+        values.append(
+            [label, *(fmt.format(v) if v is not None else "unavailable" for v in got.values())]
+        )
+        ratios.append([label, *(ratio(got[a], got[b]) for a, b in pairs)])
+    print_table(["metric", *names], values)
+    if pairs:
+        print()
+        print_table(["ratio", *(f"{a}/{b}" for a, b in pairs)], ratios)
+    for name in RELAYS:
+        got = results.get(name)
+        bare = results.get("bare-uvloop" if name.endswith(UVLOOP) else "bare")
         if not got:
             continue
         bars = [
@@ -526,10 +558,11 @@ def main() -> int:
     parser.add_argument("--serve", choices=("bare", "relay"), help=argparse.SUPPRESS)
     parser.add_argument("--port", type=int, help=argparse.SUPPRESS)
     parser.add_argument("--redis", help=argparse.SUPPRESS)
+    parser.add_argument("--uvloop", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     raise_fd_limit()
     if args.serve:
-        serve(args.serve, args.port, args.redis)
+        serve(args.serve, args.port, args.redis, args.uvloop)
         return 0
     sizes = QUICK if args.quick else FULL
     targets = [t for t in args.targets.split(",") if t]

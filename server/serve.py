@@ -2,12 +2,28 @@
 
 Replicas sharing one Redis must check each other's publish tokens, so they share the HMAC key,
 read from the environment variable `BILLIARDS_RELAY_SECRET` (a random key per process if unset).
+
+`--uvloop` runs the server on uvloop's event loop (libuv) instead of asyncio's own: the same
+code, cheaper socket writes and callbacks (see the relay benchmark). uvloop is not a dependency:
+`pip install uvloop` first; asking for it without it installed is an error, not a fallback.
 """
 
 from __future__ import annotations
 
 import argparse
+import asyncio
 import os
+
+
+def new_event_loop(use_uvloop: bool) -> asyncio.AbstractEventLoop:
+    """A fresh event loop: uvloop's if asked for (SystemExit naming the fix if missing)."""
+    if not use_uvloop:
+        return asyncio.new_event_loop()
+    try:
+        import uvloop
+    except ImportError:
+        raise SystemExit("--uvloop needs the uvloop package: pip install uvloop") from None
+    return uvloop.new_event_loop()
 
 
 def _serve(args: argparse.Namespace) -> int:
@@ -18,7 +34,7 @@ def _serve(args: argparse.Namespace) -> int:
 
     relay = RelaySettings(auth_secret=os.environ.get("BILLIARDS_RELAY_SECRET"))
     app = create_app(AppSettings(relay=relay, redis_url=args.redis))
-    web.run_app(app, host=args.host, port=args.port)
+    web.run_app(app, host=args.host, port=args.port, loop=new_event_loop(args.uvloop))
     return 0
 
 
@@ -27,4 +43,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--host", default="127.0.0.1", help="address to listen on")
     parser.add_argument("--port", type=int, default=8080, help="TCP port")
     parser.add_argument("--redis", metavar="URL", help="Redis URL (default: in-memory relay)")
+    parser.add_argument(
+        "--uvloop", action="store_true", help="run on uvloop's event loop (pip install uvloop)"
+    )
     parser.set_defaults(func=_serve)

@@ -5,13 +5,19 @@
 - EventSource: `id:` and `data:` lines, one `data:` per line of the message.
 - Gaps and closes (our additions) carry JSON of the `Gap` / `ChannelClosed` models, with their
   own content types so a client can tell them from messages.
+- WebSocket frames of messages are built once and shared by every subscriber (see
+  `message_frame`).
 """
 
 from __future__ import annotations
 
+import struct
 from functools import lru_cache
 
+from aiohttp import WSMsgType
+
 from server.relay.messages import ChannelClosed, ChannelInfo, Gap
+from server.relay.payloads import MSGPACK
 
 GAP_TYPE = "application/vnd.relay.gap+json"
 CLOSED_TYPE = "application/vnd.relay.closed+json"
@@ -41,6 +47,37 @@ def info_body(info: ChannelInfo, as_json: bool) -> tuple[str, str]:
 def meta_header(message_id: str, content_type: str) -> bytes:
     """The `ws+meta.nchan` header that precedes a message's data."""
     return f"id: {message_id}\ncontent-type: {content_type}\n\n".encode()
+
+
+def websocket_frame(payload: bytes, opcode: WSMsgType) -> bytes:
+    """One whole, unmasked server-to-client WebSocket frame (RFC 6455, section 5.2).
+
+    aiohttp's `send_frame` builds a frame per connection; a server's frames carry no mask, so
+    the bytes are the same for every subscriber and the relay builds them once per message.
+    """
+    length = len(payload)
+    first = 0x80 | opcode  # FIN: the message is not fragmented
+    if length < 126:
+        header = struct.pack("!BB", first, length)
+    elif length < 1 << 16:
+        header = struct.pack("!BBH", first, 126, length)
+    else:
+        header = struct.pack("!BBQ", first, 127, length)
+    return header + payload
+
+
+def message_opcode(content_type: str) -> WSMsgType:
+    """Binary frames carry msgpack, text frames JSON."""
+    return WSMsgType.BINARY if content_type == MSGPACK else WSMsgType.TEXT
+
+
+# A fan-out asks for the same frame once per subscriber, one message after another, so a small
+# cache hits for all but the first; it holds at most 64 frames of at most one message each.
+@lru_cache(maxsize=64)
+def message_frame(message_id: str, content_type: str, data: bytes, meta: bool) -> bytes:
+    """The WebSocket frame of a message for single-channel subscribers, `ws+meta.nchan` or not."""
+    payload = meta_header(message_id, content_type) + data if meta else data
+    return websocket_frame(payload, message_opcode(content_type))
 
 
 def notice(event: Gap | ChannelClosed) -> tuple[str, bytes]:

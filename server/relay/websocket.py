@@ -8,6 +8,8 @@
 - Frames the client sends are published (text: JSON, binary: msgpack) to `?pub=<channel>`, by
   default the first subscribed channel, with the token of `?token=` or the Authorization header.
   A refused publish closes the connection with code 4000 + the HTTP status and the reason.
+- A message's frame is built once and written straight to every subscriber's socket whose
+  buffer has room (see `server.relay.sendqueue`); the rest wait in their bounded queues.
 - Gaps arrive as frames of type `application/vnd.relay.gap+json`; a deleted channel closes the
   connection with 4410, an overflowing send queue with 1008, both with the reason.
 """
@@ -15,15 +17,21 @@
 from __future__ import annotations
 
 import asyncio
+from collections.abc import Callable
 
 from aiohttp import WSMsgType, web
 
 from server.relay.cursor import Cursor
 from server.relay.errors import RelayError
-from server.relay.frames import meta_header, notice
+from server.relay.frames import (
+    message_frame,
+    message_opcode,
+    meta_header,
+    notice,
+    websocket_frame,
+)
 from server.relay.http import bearer_token, frame_message, relay_of
 from server.relay.messages import DELETED, SHUTDOWN, ChannelClosed, Event, StoredMessage
-from server.relay.payloads import MSGPACK
 from server.relay.sendqueue import SendQueue
 from server.relay.subscribing import subscribe_all, unsubscribe_all
 
@@ -42,37 +50,77 @@ def close_code(closed: ChannelClosed) -> int:
 
 
 class _Writer:
-    """Sends queued events to one WebSocket in the chosen framing."""
+    """Sends one WebSocket's events in the chosen framing: at once when the socket can take
+    them (`write_now`), else from the queue (`run`)."""
 
-    def __init__(self, ws: web.WebSocketResponse, cursor: Cursor, meta: bool) -> None:
+    def __init__(
+        self, ws: web.WebSocketResponse, transport: asyncio.Transport, cursor: Cursor, meta: bool
+    ) -> None:
         self.ws = ws
+        self.transport = transport
         self.cursor = cursor
         self.meta = meta
+        # Single-channel frames are the same for every subscriber of the channel: shared.
+        self.shared = len(cursor.channels) == 1
+        self.task: asyncio.Task[None] | None = None  # only while events wait (see `start`)
 
-    async def send(self, event: Event) -> None:
+    def payload(self, event: Event) -> tuple[bytes, WSMsgType]:
+        """The frame's payload and type (advancing the cursor past a message)."""
         if isinstance(event, StoredMessage):
-            opcode = WSMsgType.BINARY if event.content_type == MSGPACK else WSMsgType.TEXT
             data = event.data
             if self.meta:
                 message_id = self.cursor.advance(event.channel, event.id)
                 data = meta_header(message_id, event.content_type) + data
-            await self.ws.send_frame(data, opcode)
-            return
+            return data, message_opcode(event.content_type)
         content_type, body = notice(event)
         if self.meta:
             body = meta_header(self.cursor.text(event.channel), content_type) + body
-        await self.ws.send_frame(body, WSMsgType.TEXT)
+        return body, WSMsgType.TEXT
+
+    def frame(self, event: Event) -> bytes:
+        """The whole frame of an event, shared between subscribers where it can be."""
+        if self.shared and isinstance(event, StoredMessage):
+            self.cursor.advance(event.channel, event.id)
+            return message_frame(event.id, event.content_type, event.data, self.meta)
+        return websocket_frame(*self.payload(event))
+
+    def write_now(self, event: Event) -> bool:
+        """Write the event's frame to the transport unless its buffer is full (or it closes).
+
+        aiohttp's own frames (pings, pongs, close) are whole frames too, so they never split
+        one of ours. A full buffer (the client reads slowly) leaves the event to the queue,
+        whose writer waits for the buffer to drain.
+        """
+        transport = self.transport
+        if self.ws.closed or transport.is_closing():
+            return False
+        if transport.get_write_buffer_size() >= transport.get_write_buffer_limits()[1]:
+            return False
+        transport.write(self.frame(event))
+        return True
+
+    def start(self, queue: SendQueue) -> None:
+        """Send what waits in the queue, from a task that ends once it is empty."""
+        if self.task is None or self.task.done():
+            self.task = asyncio.ensure_future(self.run(queue))
 
     async def run(self, queue: SendQueue) -> None:
         try:
-            while batch := await queue.take():
+            while batch := queue.take_ready():
                 for event in batch:
-                    await self.send(event)
+                    await self.ws.send_frame(*self.payload(event))
         except ConnectionError:
             return  # the client has gone; the handler cleans up
         if queue.closed is not None:
             reason = queue.closed.reason.encode()[:123]
             await self.ws.close(code=close_code(queue.closed), message=reason)
+
+
+def _direct_path(ws: web.WebSocketResponse, writer: _Writer) -> Callable[[Event], bool] | None:
+    """The queue's shortcut to the socket, if frames can go out uncompressed as built."""
+    if ws.compress:
+        return None  # permessage-deflate: each connection compresses with its own state
+    return writer.write_now
 
 
 async def websocket_subscriber(
@@ -87,10 +135,14 @@ async def websocket_subscriber(
         max_msg_size=settings.max_message_bytes,
     )
     await ws.prepare(request)
-    writer = _Writer(ws, cursor, ws.ws_protocol == META_PROTOCOL)
-    queue = SendQueue(settings.send_queue_length)
+    transport = request.transport
+    if transport is None:
+        return ws  # the client left during the handshake
+    writer = _Writer(ws, transport, cursor, ws.ws_protocol == META_PROTOCOL)
+    queue = SendQueue(
+        settings.send_queue_length, _direct_path(ws, writer), lambda: writer.start(queue)
+    )
     subscriptions = await subscribe_all(relay, channels, cursor, queue)
-    writing = asyncio.create_task(writer.run(queue))
     token = bearer_token(request)
     try:
         async for frame in ws:
@@ -101,6 +153,7 @@ async def websocket_subscriber(
             except RelayError as error:
                 await ws.close(code=4000 + error.status, message=error.reason.encode()[:123])
     finally:
-        writing.cancel()
+        if writer.task is not None:
+            writer.task.cancel()
         await unsubscribe_all(relay, subscriptions)
     return ws

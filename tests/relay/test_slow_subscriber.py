@@ -7,7 +7,14 @@ import json
 import aiohttp
 
 from server.relay.sendqueue import OVERFLOW_REASON
-from tests.relay.conftest import RelayHarness, StartRelay, receive, receive_meta
+from tests.relay.conftest import (
+    RelayHarness,
+    StartRelay,
+    parse_meta,
+    receive,
+    receive_meta,
+    wait_subscribers,
+)
 from tests.relay.test_eventsource import sse
 
 
@@ -18,22 +25,32 @@ async def _backlog(relay: RelayHarness, count: int) -> list[str]:
 async def test_overflowing_websocket_is_closed_with_a_reason_and_can_resume(
     start_relay: StartRelay,
 ) -> None:
-    """Ten buffered messages cannot fit a four-event queue: the connection is closed."""
-    relay = await start_relay(send_queue_length=4)
-    ids = await _backlog(relay, 10)
+    """A client that stops reading fills its socket's buffers, then its four-event queue.
+
+    Frames go straight to a socket that has room, so only a reader that really falls behind
+    fills the queue: the client reads nothing while 16 MB are published, more than the
+    kernel's and the transport's buffers hold, then finds a close after what was queued.
+    """
+    relay = await start_relay(
+        send_queue_length=4, buffer_length=1000, publish_rate=1e6, publish_burst=10**6
+    )
     ws = await relay.ws("/sub/game1")
+    await wait_subscribers(relay, "game1", 1)
+    padding = "x" * 40_000
+    ids = [await relay.publish_ok("game1", [n, padding]) for n in range(400)]
     received = []
     while (frame := await receive(ws)).type != aiohttp.WSMsgType.CLOSE:
-        received.append(frame)
+        received.append(parse_meta(frame))
     assert frame.data == aiohttp.WSCloseCode.POLICY_VIOLATION
     assert frame.extra == OVERFLOW_REASON
-    assert 0 < len(received) <= 4  # what was queued is still delivered, nothing more
-    last_id = received[-1].data.split("\n", 1)[0].removeprefix("id: ")
-    resumed = await relay.ws(f"/sub/game1?last_event_id={last_id}")
-    start = ids.index(last_id) + 1
-    for expected in range(start, min(start + 4, 10)):
+    assert 0 < len(received) < len(ids)
+    # In order, none missing, until the close.
+    assert [message_id for message_id, _, _ in received] == ids[: len(received)]
+    assert [json.loads(data)[0] for _, _, data in received] == list(range(len(received)))
+    resumed = await relay.ws(f"/sub/game1?last_event_id={received[-1][0]}")
+    for expected in range(len(received), min(len(received) + 4, len(ids))):
         message_id, _, data = await receive_meta(resumed)
-        assert (message_id, json.loads(data)) == (ids[expected], expected)
+        assert (message_id, json.loads(data)[0]) == (ids[expected], expected)
     await resumed.close()
 
 

@@ -124,3 +124,42 @@ async def test_multiplexing_rejects_bad_channel_lists(relay: RelayHarness) -> No
         assert response.status == 400, path
     response = await relay.client.get("/sub/a,b?last_event_id=zzz/1:0")
     assert response.status == 400
+
+
+async def test_one_message_reaches_plain_and_meta_subscribers_in_their_framing(
+    start_relay: StartRelay,
+) -> None:
+    """Frames are built once per message and framing: sizes across all three length forms of
+    RFC 6455 (7-bit, 16-bit, 64-bit) reach plain and `ws+meta.nchan` subscribers intact."""
+    relay = await start_relay(max_message_bytes=100_000)
+    plain = [await relay.ws("/sub/game1", meta=False) for _ in range(2)]
+    meta = [await relay.ws("/sub/game1") for _ in range(2)]
+    await wait_subscribers(relay, "game1", 4)
+    for size in (10, 300, 70_000):
+        value = "y" * size
+        message_id = await relay.publish_ok("game1", value)
+        for ws in plain:
+            assert json.loads((await receive(ws)).data) == value
+        for ws in meta:
+            assert await receive_meta(ws) == (
+                message_id,
+                "application/json",
+                json.dumps(value).encode(),
+            )
+    for ws in plain + meta:
+        await ws.close()
+
+
+async def test_compressing_subscribers_get_every_message_in_order(relay: RelayHarness) -> None:
+    """permessage-deflate gives each connection its own compressor, so its frames cannot be
+    shared: they go through the connection's queue, and arrive whole and in order."""
+    compressed = await relay.client.ws_connect("/sub/game1", compress=15)
+    assert compressed.compress == 15  # negotiated
+    plain = await relay.ws("/sub/game1", meta=False)
+    await wait_subscribers(relay, "game1", 2)
+    for n in range(20):
+        await relay.publish("game1", {"n": n, "pad": "z" * 200})
+    for ws in (compressed, plain):
+        assert [json.loads((await receive(ws)).data)["n"] for _ in range(20)] == list(range(20))
+    await compressed.close()
+    await plain.close()
