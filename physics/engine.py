@@ -6,9 +6,9 @@ of its motion state, so its position at any later time before its next event is 
 motion transition, cushion, jaw and pocket contacts, and their pairings with every other ball
 (physics.roots gives each first contact). Predictions go into a heap with the versions of the
 balls they were computed from; a prediction whose ball has changed since is dropped when it
-surfaces. So a stationary ball costs nothing until something moves towards it, a pair that
-cannot meet within both balls' current paths is culled by a distance bound before any
-polynomial is formed, and a carom table never looks for pockets (it has none).
+surfaces. So a stationary ball costs no more than a distance test until something moves
+towards it, a pair that cannot meet within both balls' current paths is culled by that bound
+before any polynomial is formed, and a carom table never looks for pockets (it has none).
 """
 
 from __future__ import annotations

@@ -146,12 +146,16 @@ def parse_scene(data: dict[str, Any]) -> Scene:
         where = ".".join(str(x) for x in first["loc"]) or "scene"
         raise SceneError(f"{where}: {first['msg']}") from None
     spec, params = _table(raw.table)
+    overrides: dict[str, float | int] = dict(raw.params)
+    if "mathavan_steps" in overrides:
+        steps = overrides["mathavan_steps"]
+        if steps != int(steps):
+            raise SceneError("params.mathavan_steps must be a whole number")
+        overrides["mathavan_steps"] = int(steps)
     try:
-        params = params.with_overrides(raw.params)
+        params = params.with_overrides(overrides)
     except ValueError as exc:
         raise SceneError(str(exc)) from None
-    if "mathavan_steps" in raw.params:
-        params = params.with_overrides({"mathavan_steps": int(raw.params["mathavan_steps"])})
     _check_params(params)
     scene = Scene(
         geometry=spec.geometry(),

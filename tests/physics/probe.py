@@ -65,18 +65,16 @@ class _Metered(Simulation):
             total += 0.5 * p.m * (vx * vx + vy * vy) + 0.5 * inertia * sum(x * x for x in w)
         return total
 
-    def _metered(self, name: str, *args) -> None:
+    def _metered(self, name: str, *args, **kwargs) -> None:
         before = self._energy()
-        getattr(super(), name)(*args)
+        getattr(super(), name)(*args, **kwargs)
         self.steps.append((name, before, self._energy()))
 
     def _collide_balls(self, *args) -> None:
         self._metered("_collide_balls", *args)
 
     def _collide_cushion(self, *args, **names) -> None:
-        before = self._energy()
-        super()._collide_cushion(*args, **names)
-        self.steps.append(("_collide_cushion", before, self._energy()))
+        self._metered("_collide_cushion", *args, **names)
 
     def _transition(self, *args) -> None:
         self._metered("_transition", *args)

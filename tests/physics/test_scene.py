@@ -38,6 +38,7 @@ def with_(**changes):
         (with_(params={"u_s": -0.1}), "params.u_s"),
         (with_(params={"e_b": 1.5}), "params.e_b"),
         (with_(params={"spin": 1.0}), "unknown params"),
+        (with_(params={"mathavan_steps": 4.5}), "whole number"),
         (with_(models={"cushion": "bogus"}), "models.cushion"),
         (with_(extra=1), "extra"),
         (with_(balls={"cue": [0.02, 0.02]}), "off the table"),
