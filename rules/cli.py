@@ -1,8 +1,11 @@
-"""`billiards selfplay GAME [--seed N]` and `billiards replay RECORD.json`.
+"""`billiards selfplay GAME [--seed N]` and `billiards replay RECORD`.
 
 Both print the same thing, one line per input: the referee's decision on each shot and each
-choice made, then the final scores. selfplay can save its record (--record FILE), and replaying
-that file prints exactly the lines selfplay printed. The only module of `rules` that does I/O.
+choice made, then the final scores. selfplay can save its record (--record FILE, JSON; --link
+prints the compact share-link form), and replaying that file prints exactly the lines selfplay
+printed. replay reads a JSON record or a share link, and refuses (exit status 2, one line on
+stderr naming the input) a record that does not replay to the game it states. The only module
+of `rules` that does I/O.
 """
 
 from __future__ import annotations
@@ -13,22 +16,23 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from rules.record import Replay
+    from rules.record import GameRecord, Replay
 
-GAMES = ("nineball", "eightball", "snooker", "three_cushion")
+from rules.racks import Game
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     play = sub.add_parser("selfplay", help="play a whole game between two simple shot pickers")
-    play.add_argument("game", choices=GAMES)
+    play.add_argument("game", choices=[g.value for g in Game])
     play.add_argument("--seed", type=int, default=0, help="rack seed (default 0)")
     play.add_argument("--gap", type=float, default=0.0002, help="largest gap in the rack (m)")
     play.add_argument("--target", type=int, default=0, help="three-cushion points to win")
     play.add_argument("--max-inputs", type=int, default=400, help="stop after this many inputs")
     play.add_argument("--record", help="write the game record (JSON) to this file")
+    play.add_argument("--link", action="store_true", help="print the record as a share link")
     play.set_defaults(func=run_selfplay)
     rep = sub.add_parser("replay", help="replay a game record and print every decision")
-    rep.add_argument("record", help="game record JSON file, or - for stdin")
+    rep.add_argument("record", help="game record (JSON or share link) file, or - for stdin")
     rep.set_defaults(func=run_replay)
 
 
@@ -67,18 +71,32 @@ def run_selfplay(args: argparse.Namespace) -> int:
         return 1
     for line in describe(replay):
         print(line)
+    if args.link:
+        from rules.compact import encode
+
+        print(encode(record))
     if args.record:
         with open(args.record, "w", encoding="utf-8") as fh:
             fh.write(record.to_json())
     return 0
 
 
+def read_record(text: str) -> GameRecord:
+    """A JSON record, or a share link (anything not starting with '{')."""
+    from rules.compact import decode
+    from rules.record import GameRecord
+
+    if text.lstrip().startswith("{"):
+        return GameRecord.from_json(text)
+    return decode(text)
+
+
 def run_replay(args: argparse.Namespace) -> int:
     from pydantic import ValidationError
 
     from physics import SceneError, SimulationError
-    from rules.record import GameRecord, replay
-    from rules.state import RuleError
+    from rules.codes import RuleError
+    from rules.record import replay
 
     try:
         if args.record == "-":
@@ -86,8 +104,13 @@ def run_replay(args: argparse.Namespace) -> int:
         else:
             with open(args.record, encoding="utf-8") as fh:
                 text = fh.read()
-        result = replay(GameRecord.from_json(text))
-    except (OSError, ValidationError, RuleError, SceneError, SimulationError) as exc:
+        result = replay(read_record(text))
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        where = ".".join(str(x) for x in first["loc"])
+        print(f"billiards replay: invalid record: {where}: {first['msg']}", file=sys.stderr)
+        return 2
+    except (OSError, UnicodeDecodeError, RuleError, SceneError, SimulationError) as exc:
         print(f"billiards replay: {exc}", file=sys.stderr)
         return 2
     for line in describe(result):

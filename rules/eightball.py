@@ -24,18 +24,25 @@ the head string must first cross it" detail of a kitchen ball in hand.
 
 from __future__ import annotations
 
-from rules import pool
-from rules.events import ShotFacts, read_shot
-from rules.inputs import Shot
-from rules.racks import SOLIDS, STRIPES, rack
-from rules.spots import POOL_TABLE, Point
-from rules.state import Decision, Group, RuleError, State, other
+from collections.abc import Mapping
 
+import physics
+from rules import pool
+from rules.codes import NoteCode
+from rules.events import ShotFacts, read_shot
+from rules.inputs import Shot, ShotOptions
+from rules.racks import SOLIDS, STRIPES, Game, rack
+from rules.spots import POOL_TABLE, Point
+from rules.state import Decision, Foul, Group, Note, State, note, other
+
+GAME = Game.EIGHTBALL
 TABLE = POOL_TABLE
+#: On the 8, a pocket must be called.
+CALL_THE_EIGHT = ShotOptions(call=pool.POCKETS)
 
 
 def new_game(seed: int, gap: float = 0.0, target: int = 0) -> State:
-    return State(game="eightball", balls=rack("eightball", seed, gap), ball_in_hand="kitchen")
+    return State(game=GAME, balls=rack(GAME, seed, gap), ball_in_hand="kitchen")
 
 
 def cue_ball(state: State) -> str:
@@ -50,71 +57,75 @@ def group_of(ball: str) -> Group | None:
     return None
 
 
-def targets(state: State, balls: dict[str, Point]) -> tuple[set[str], str]:
+def wanted(state: State, balls: Mapping[str, Point]) -> tuple[frozenset[str], str]:
     """The balls the player to shoot may hit first, and how to name them in a foul."""
     mine = state.groups[state.turn]
-    objects = [b for b in balls if b not in ("cue", "8")]
+    objects = [b for b in pool.object_balls(balls) if b != "8"]
+    eight = (frozenset({"8"}), "the 8")
     if mine is None:
-        return (set(objects), "a solid or a stripe") if objects else ({"8"}, "the 8")
-    own = {b for b in objects if group_of(b) == mine}
-    return (own, f"one of the {mine}") if own else ({"8"}, "the 8")
+        return (frozenset(objects), "a solid or a stripe") if objects else eight
+    own = frozenset(b for b in objects if group_of(b) == mine)
+    return (own, f"one of the {mine}") if own else eight
 
 
-def check_shot(state: State, shot: Shot) -> None:
-    if shot.push_out or shot.nominate is not None:
-        raise RuleError("eight-ball has no push-outs or nominations")
-    on_eight = state.shots > 0 and targets(state, state.balls)[0] == {"8"}
-    if on_eight and shot.call not in pool.POCKETS:
-        raise RuleError(f"call a pocket for the 8, one of: {', '.join(pool.POCKETS)}")
-    if not on_eight and shot.call is not None:
-        raise RuleError("only the 8 is called")
+def targets(state: State, balls: Mapping[str, Point]) -> frozenset[str]:
+    return wanted(state, balls)[0]
+
+
+def on_eight(state: State, balls: Mapping[str, Point]) -> bool:
+    return state.shots > 0 and targets(state, balls) == {"8"}
+
+
+def options(state: State) -> ShotOptions:
+    return CALL_THE_EIGHT if on_eight(state, state.balls) else pool.PLAIN
 
 
 def _eight_verdict(
-    state: State, shot: Shot, facts: ShotFacts, on_eight: bool, fouls: list[str]
-) -> tuple[int, str]:
+    state: State, shot: Shot, facts: ShotFacts, on_eight: bool, fouls: list[Foul]
+) -> tuple[int, Note]:
     """Who wins when the 8 drops after the break, and why."""
     me, opp = state.turn, other(state.turn)
     pocket = facts.pocketed["8"]
     if not on_eight:
-        return opp, "8 pocketed before the group was cleared: loss of rack"
+        why = "8 pocketed before the group was cleared: loss of rack"
+        return opp, note(NoteCode.EIGHT_EARLY, why)
     if fouls:
-        return opp, "8 pocketed on a foul: loss of rack"
+        return opp, note(NoteCode.EIGHT_ON_FOUL, "8 pocketed on a foul: loss of rack")
     if pocket != shot.call:
-        return opp, f"8 pocketed in {pocket}, not the called {shot.call}: loss of rack"
-    return me, "8 pocketed in the called pocket"
+        why = f"8 pocketed in {pocket}, not the called {shot.call}: loss of rack"
+        return opp, note(NoteCode.EIGHT_WRONG_POCKET, why)
+    return me, note(NoteCode.EIGHT_CALLED, "8 pocketed in the called pocket")
 
 
 def judge(
-    state: State, shot: Shot, before: dict[str, Point], result: dict
+    state: State, shot: Shot, before: dict[str, Point], result: physics.Shot
 ) -> tuple[State, Decision]:
     me, opp = state.turn, other(state.turn)
     facts = read_shot(result, "cue", before)
     positions = dict(facts.positions)
     respotted: dict[str, Point] = {}
-    notes: list[str] = []
+    notes: list[Note] = []
     groups = state.groups
     winner = None
     breaking = state.shots == 0
-    legal, wanted = targets(state, before)
-    on_eight = not breaking and legal == {"8"}
+    legal, words = wanted(state, before)
     if breaking:
         fouls = pool.contact_fouls(facts, legal | {"8"}, "a ball", rail=False)
         fouls += pool.break_fouls(facts)
         if "8" in facts.pocketed:
             respotted["8"] = positions["8"] = pool.respot_on_foot_spot(positions)
-            notes.append("8 pocketed on the break: respotted")
+            notes.append(note(NoteCode.EIGHT_ON_BREAK, "8 pocketed on the break: respotted"))
     else:
-        fouls = pool.contact_fouls(facts, legal, wanted, rail=True)
+        fouls = pool.contact_fouls(facts, legal, words, rail=True)
         if "8" in facts.pocketed:
-            winner, why = _eight_verdict(state, shot, facts, on_eight, fouls)
+            winner, why = _eight_verdict(state, shot, facts, legal == {"8"}, fouls)
             notes.append(why)
     dropped = [b for b in facts.pocketed if b != "8"]
     if not fouls and not breaking and groups[me] is None and dropped:
         first = group_of(dropped[0])
         rest = "stripes" if first == "solids" else "solids"
         groups = (first, rest) if me == 0 else (rest, first)
-        notes.append(f"P{me + 1} takes the {first}")
+        notes.append(note(NoteCode.GROUP_TAKEN, f"P{me + 1} takes the {first}"))
     if winner is not None:
         nxt, bih = winner, None
     elif fouls:

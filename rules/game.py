@@ -1,32 +1,28 @@
-"""One interface over the four referees: start a game, check an input, play it.
+"""The seam the game service stands on: start a game, check an input, play it.
 
-Each referee module (nineball, eightball, snooker, three_cushion) provides `TABLE`,
-`new_game`, `cue_ball`, `check_shot` and `judge`; everything common to all four lives here:
-whose turn it is, ball-in-hand placement, choices after a shot, and building the physics scene.
-An input is checked completely before the engine runs, so a rejected input changes nothing.
+Everything common to the four referees lives here: whose turn it is, ball-in-hand placement,
+a shot's declarations, choices after a shot, and building the physics scene. The game-specific
+parts come from the game's `Referee` (rules.referee). An input is checked completely before
+the engine runs (`check` is that check alone), so a refused input changes nothing, and `play`
+returns the engine's typed result beside the new state so that nothing is simulated twice.
+States, inputs and outcomes pickle, so `play` can run in a worker process.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from types import ModuleType
+from dataclasses import dataclass
 from typing import Annotated
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from physics import ENGINE_VERSION
-from rules import eightball, nineball, snooker, three_cushion
-from rules.inputs import Choice, PlayerInput, Shot
-from rules.racks import GameName
+import physics
+from rules.codes import Refusal, RuleError
+from rules.inputs import Choice, PlayerInput, Shot, check_canonical
+from rules.racks import Game
+from rules.referee import allowed, referee
 from rules.spots import Point, in_region, is_free
-from rules.state import Decision, RuleError, State, other
-
-REFEREES: dict[str, ModuleType] = {
-    "nineball": nineball,
-    "eightball": eightball,
-    "snooker": snooker,
-    "three_cushion": three_cushion,
-}
+from rules.state import Decision, State, other
 
 REGION_WORDS = {
     "anywhere": "anywhere on the table",
@@ -34,7 +30,8 @@ REGION_WORDS = {
     "D": "in the D",
 }
 
-Simulate = Callable[[dict], dict]
+#: The engine as the referees use it: a validated scene in, the typed shot out.
+Simulate = Callable[[physics.Scene], physics.Shot]
 
 
 class Setup(BaseModel):
@@ -42,20 +39,49 @@ class Setup(BaseModel):
 
     gap: the largest extra space between rack balls (m), see `rules.racks`.
     target: three-cushion points to win (0 = the default of 15); ignored by the other games.
-    engine: the physics engine version the game is played with (physics.ENGINE_VERSION).
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    game: GameName
-    seed: Annotated[int, Field(ge=0, lt=2**63)]
-    gap: Annotated[float, Field(ge=0.0, le=0.005, allow_inf_nan=False)] = 0.0
-    target: Annotated[int, Field(ge=0, le=1000)] = 0
-    engine: str = ENGINE_VERSION
+    game: Game
+    seed: Annotated[int, Field(strict=True, ge=0, lt=2**63)]
+    gap: Annotated[float, Field(strict=True, ge=0.0, le=0.005, allow_inf_nan=False)] = 0.0
+    target: Annotated[int, Field(strict=True, ge=0, le=1000)] = 0
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    """What one input led to: the new state, and for a shot the referee's decision and the
+    engine's result (events and trajectories, to publish as they are); None for a choice."""
+
+    state: State
+    decision: Decision | None
+    shot: physics.Shot | None
 
 
 def start(setup: Setup) -> State:
-    return REFEREES[setup.game].new_game(setup.seed, setup.gap, setup.target)
+    return referee(setup.game).new_game(setup.seed, setup.gap, setup.target)
+
+
+def _check_turn(state: State) -> None:
+    if state.over:
+        raise RuleError(Refusal.GAME_OVER, "the game is over")
+
+
+def _check_declarations(state: State, shot: Shot) -> None:
+    """Push-out, called pocket and nomination against what the referee allows now."""
+    may = referee(state.game).options(state)
+    if shot.push_out and not may.push_out:
+        raise RuleError(Refusal.NO_PUSH_OUT, "a push-out is not allowed on this shot")
+    if may.call and shot.call not in may.call:
+        raise RuleError(Refusal.CALL_REQUIRED, f"call a pocket, one of: {', '.join(may.call)}")
+    if not may.call and shot.call is not None:
+        raise RuleError(Refusal.NO_CALL, "no pocket is called on this shot")
+    if shot.nominate is not None and shot.nominate not in may.nominate:
+        offered = ", ".join(sorted(may.nominate)) or "none now"
+        raise RuleError(
+            Refusal.BAD_NOMINATION, f"cannot nominate {shot.nominate!r} (nominate: {offered})"
+        )
 
 
 def shot_position(state: State, shot: Shot) -> dict[str, Point]:
@@ -63,69 +89,81 @@ def shot_position(state: State, shot: Shot) -> dict[str, Point]:
 
     Raises RuleError for a shot the player may not play now.
     """
-    ref = REFEREES[state.game]
-    if state.over:
-        raise RuleError("the game is over")
-    if state.pending:
-        raise RuleError(f"P{state.turn + 1} must first choose: {' / '.join(state.pending)}")
-    cue = ref.cue_ball(state)
-    if shot.strike.ball != cue:
-        raise RuleError(f"P{state.turn + 1} must strike the {cue} ball, not {shot.strike.ball!r}")
+    _check_turn(state)
+    now = allowed(state)
+    if now.choices:
+        raise RuleError(
+            Refusal.CHOICE_PENDING,
+            f"P{state.turn + 1} must first choose: {' / '.join(now.choices)}",
+        )
+    check_canonical(shot)
+    if shot.strike.ball != now.cue:
+        why = f"P{state.turn + 1} must strike the {now.cue} ball, not {shot.strike.ball!r}"
+        raise RuleError(Refusal.WRONG_CUE_BALL, why)
+    table = referee(state.game).TABLE
     balls = dict(state.balls)
     if shot.place is not None:
-        region = state.ball_in_hand
-        if region is None:
-            raise RuleError("no ball in hand: the cue ball cannot be moved")
-        place = (float(shot.place[0]), float(shot.place[1]))
-        if not in_region(place, region, ref.TABLE):
-            raise RuleError(f"the cue ball must be placed {REGION_WORDS[region]}")
-        others = {b: p for b, p in balls.items() if b != cue}
-        if not is_free(place, others, ref.TABLE.R):
-            raise RuleError("the cue ball cannot be placed on or against another ball")
-        balls[cue] = place
-    elif cue not in balls:
-        raise RuleError("the cue ball is in hand: give a place for it")
-    ref.check_shot(state, shot)
+        if now.ball_in_hand is None:
+            raise RuleError(Refusal.NOT_IN_HAND, "no ball in hand: the cue ball cannot be moved")
+        if not in_region(shot.place, now.ball_in_hand, table):
+            why = f"the cue ball must be placed {REGION_WORDS[now.ball_in_hand]}"
+            raise RuleError(Refusal.OUTSIDE_REGION, why)
+        others = {b: p for b, p in balls.items() if b != now.cue}
+        if not is_free(shot.place, others, table.R):
+            why = "the cue ball cannot be placed on or against another ball"
+            raise RuleError(Refusal.PLACE_BLOCKED, why)
+        balls[now.cue] = shot.place
+    elif now.cue not in balls:
+        raise RuleError(Refusal.PLACE_REQUIRED, "the cue ball is in hand: give a place for it")
+    _check_declarations(state, shot)
     return balls
 
 
-def scene(state: State, shot: Shot, balls: dict[str, Point]) -> dict:
-    """The physics scene of a shot (the engine's input format)."""
-    return {
-        "table": REFEREES[state.game].TABLE.preset,
-        "balls": {b: [p[0], p[1]] for b, p in balls.items()},
-        "strike": shot.strike.model_dump(),
-    }
+def check_choice(state: State, choice: Choice) -> None:
+    _check_turn(state)
+    check_canonical(choice)
+    if choice.option not in state.pending:
+        offered = " / ".join(state.pending) or "nothing"
+        why = f"{choice.option!r} is not an option now (offered: {offered})"
+        raise RuleError(Refusal.NOT_AN_OPTION, why)
+
+
+def check(state: State, action: PlayerInput) -> None:
+    """Every rule check of an input in `state`, without simulating anything: turn, phase,
+    bounds, placement, declarations, pending choices. Raises RuleError (with its code)."""
+    if isinstance(action, Choice):
+        check_choice(state, action)
+    else:
+        shot_position(state, action)
+
+
+def scene(state: State, shot: Shot, balls: dict[str, Point]) -> physics.Scene:
+    """The physics scene of a shot, validated by the engine's own parser."""
+    return physics.parse_scene(
+        {
+            "table": referee(state.game).TABLE.preset,
+            "balls": {b: [p[0], p[1]] for b, p in balls.items()},
+            "strike": shot.strike.model_dump(),
+        }
+    )
 
 
 def choose(state: State, choice: Choice) -> State:
     """Apply a choice offered after the opponent's shot."""
-    if state.over:
-        raise RuleError("the game is over")
-    if choice.option not in state.pending:
-        offered = " / ".join(state.pending) or "nothing"
-        raise RuleError(f"{choice.option!r} is not an option now (offered: {offered})")
+    check_choice(state, choice)
     if choice.option == "play_on":
-        return state.model_copy(update={"pending": (), "retake": None})
+        return state.evolve(pending=(), retake=None)
     if choice.option == "play_again":
-        update = {"pending": (), "turn": other(state.turn), "free_ball": False, "retake": None}
-        return state.model_copy(update=update)
-    restored = {"scores": state.scores, "best": state.best, "shots": state.shots}
-    return state.retake.model_copy(update=restored)
+        return state.evolve(pending=(), turn=other(state.turn), free_ball=False, retake=None)
+    return state.retake.evolve(scores=state.scores, best=state.best, shots=state.shots)
 
 
-def default_simulate(scene_: dict) -> dict:
-    import physics
-
-    return physics.simulate_scene(scene_)
-
-
-def play(
-    state: State, action: PlayerInput, simulate: Simulate = default_simulate
-) -> tuple[State, Decision | None]:
-    """The state after a player's input and, for a shot, the referee's decision."""
+def play(state: State, action: PlayerInput, simulate: Simulate = physics.simulate) -> Outcome:
+    """The outcome of a player's input: the new state, and for a shot the referee's decision
+    and the engine's result. Raises RuleError (nothing simulated) for an input refused."""
     if isinstance(action, Choice):
-        return choose(state, action), None
+        return Outcome(state=choose(state, action), decision=None, shot=None)
     balls = shot_position(state, action)
     result = simulate(scene(state, action, balls))
-    return REFEREES[state.game].judge(state, action, balls, result)
+    new, decision = referee(state.game).judge(state, action, balls, result)
+    return Outcome(state=new, decision=decision, shot=result)

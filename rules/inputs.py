@@ -1,8 +1,14 @@
 """What a player sends: a shot (with its pre-shot choices) or a choice after an opponent's shot.
 
-These models are the whole of a game record besides its setup, so they stay small: fields at
-their defaults are left out when serialised. Numbers are checked here (finite, in range) so that
-bad input fails before anything is simulated and changes nothing.
+Inputs are canonical from the moment they exist. Numbers are parsed strictly (a number, never a
+string such as "3.0" or a boolean), must be finite, and are quantised on validation to the
+fixed-point steps below, which are also what the compact record stores (rules.compact): the
+shot the engine plays is exactly the shot a record holds, so a record, its JSON and its share
+link replay bit for bit. The heading is normalised to [0, 360). The strike bounds are the
+engine's own (physics.cue), so an input accepted here is never refused by the engine.
+
+`accept` is the one entry point for input from outside: it turns JSON or a decoded message
+into an input or a `RuleError` with a code.
 """
 
 from __future__ import annotations
@@ -10,31 +16,109 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    TypeAdapter,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
-Finite = Annotated[float, Field(allow_inf_nan=False)]
+from physics.cue import MAX_ELEVATION, MAX_SPEED, MISCUE_LIMIT
+from rules.codes import Refusal, RuleError
 
-#: Tip offsets farther than this from the ball's centre (as a fraction of R) miscue.
-MISCUE_LIMIT = 0.5
+#: Fixed-point steps per unit: heading 1e-4 degree, speed 1 mm/s, tip offsets 1e-3 R,
+#: elevation 0.01 degree, placements 0.1 mm.
+HEADING_STEPS = 10_000
+SPEED_STEPS = 1_000
+TIP_STEPS = 1_000
+ELEVATION_STEPS = 100
+PLACE_STEPS = 10_000
+
+#: A full turn in heading steps: canonical headings are integers in [0, FULL_TURN).
+FULL_TURN = 360 * HEADING_STEPS
+#: Farthest a placement may be from the origin before quantising (m); the table check that
+#: follows is much tighter, this only keeps the fixed-point integers small.
+MAX_PLACE = 100.0
+
+Number = Annotated[float, Field(strict=True, allow_inf_nan=False)]
+
+
+def fixed(value: float, steps: int) -> int:
+    """`value` in units of 1/steps, rounded to the nearest (half to even): the stored integer.
+
+    For a canonical value (one that came out of `fixed(...) / steps`) this is exact.
+    """
+    return round(value * steps)
+
+
+def quantise(value: float, steps: int) -> float:
+    return fixed(value, steps) / steps
+
+
+def heading_steps(heading: float) -> int:
+    """A heading in degrees as canonical steps in [0, FULL_TURN)."""
+    return fixed(math.fmod(heading, 360.0), HEADING_STEPS) % FULL_TURN
 
 
 class Strike(BaseModel):
-    """The cue's stroke, exactly as the physics scene's `strike` takes it."""
+    """The cue's stroke, exactly as the physics scene's `strike` takes it, quantised."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    ball: str
-    speed: Annotated[float, Field(gt=0.0, le=12.0, allow_inf_nan=False)]
-    heading: Finite
-    elevation: Annotated[float, Field(ge=0.0, le=90.0, allow_inf_nan=False)] = 0.0
-    a: Finite = 0.0
-    b: Finite = 0.0
+    ball: Annotated[str, Field(strict=True, min_length=1, max_length=16)]
+    speed: Number
+    heading: Number
+    elevation: Number = 0.0
+    a: Number = 0.0
+    b: Number = 0.0
+
+    @field_validator("heading")
+    @classmethod
+    def _heading(cls, v: float) -> float:
+        return heading_steps(v) / HEADING_STEPS
+
+    @field_validator("speed")
+    @classmethod
+    def _speed(cls, v: float) -> float:
+        q = quantise(max(-1.0, min(v, 2 * MAX_SPEED)), SPEED_STEPS)
+        if not 0.0 < q <= MAX_SPEED:
+            raise ValueError(f"speed must be in (0, {MAX_SPEED}] m/s (steps of 1 mm/s)")
+        return q
+
+    @field_validator("elevation")
+    @classmethod
+    def _elevation(cls, v: float) -> float:
+        q = quantise(max(-1.0, min(v, 2 * MAX_ELEVATION)), ELEVATION_STEPS)
+        if not 0.0 <= q <= MAX_ELEVATION:
+            raise ValueError(f"elevation must be in [0, {MAX_ELEVATION}] degrees")
+        return q
+
+    @field_validator("a", "b")
+    @classmethod
+    def _tip(cls, v: float) -> float:
+        if abs(v) > MISCUE_LIMIT:
+            raise ValueError(f"tip offsets must be within {MISCUE_LIMIT} R (miscue)")
+        return quantise(v, TIP_STEPS)
 
     @model_validator(mode="after")
     def _no_miscue(self) -> Strike:
         if math.hypot(self.a, self.b) > MISCUE_LIMIT:
             raise ValueError(f"tip offset |(a, b)| must be at most {MISCUE_LIMIT} (miscue)")
         return self
+
+
+def _place(v: float) -> float:
+    if abs(v) > MAX_PLACE:
+        raise ValueError(f"placement coordinates must be within {MAX_PLACE} m")
+    return quantise(v, PLACE_STEPS)
+
+
+Name = Annotated[str, Field(strict=True, min_length=1, max_length=16)]
 
 
 class Shot(BaseModel):
@@ -51,13 +135,34 @@ class Shot(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     strike: Strike
-    place: tuple[Finite, Finite] | None = None
+    place: tuple[Number, Number] | None = None
+    push_out: Annotated[bool, Field(strict=True)] = False
+    call: Name | None = None
+    nominate: Name | None = None
+
+    @field_validator("place")
+    @classmethod
+    def _quantise_place(cls, v: tuple[float, float] | None) -> tuple[float, float] | None:
+        return None if v is None else (_place(v[0]), _place(v[1]))
+
+
+class ShotOptions(BaseModel):
+    """The declarations a shot may carry in the present state (each referee says which).
+
+    push_out: a push-out may be declared. call: when not empty, a pocket must be called and
+    must be one of these; when empty, no call is allowed. nominate: the balls that may be
+    nominated (none: no nomination allowed).
+    """
+
+    model_config = ConfigDict(frozen=True)
+
     push_out: bool = False
-    call: str | None = None
-    nominate: str | None = None
+    call: tuple[str, ...] = ()
+    nominate: frozenset[str] = frozenset()
 
 
 Option = Literal["play_on", "play_again", "replace"]
+OPTIONS: tuple[Option, ...] = ("play_on", "play_again", "replace")
 
 
 class Choice(BaseModel):
@@ -83,3 +188,38 @@ def _kind(value: Any) -> str:
 PlayerInput = Annotated[
     Annotated[Shot, Tag("shot")] | Annotated[Choice, Tag("choice")], Discriminator(_kind)
 ]
+
+_INPUT = TypeAdapter(PlayerInput)
+
+
+def _malformed(exc: ValidationError) -> RuleError:
+    first = exc.errors()[0]
+    where = ".".join(str(x) for x in first["loc"] if x not in ("shot", "choice"))
+    return RuleError(Refusal.MALFORMED, f"{where or 'input'}: {first['msg']}")
+
+
+def accept(data: str | bytes | dict[str, Any]) -> Shot | Choice:
+    """An input from outside (JSON text, or a decoded JSON/msgpack object), canonical.
+
+    Raises RuleError (code MALFORMED) naming the first problem. The game service calls this
+    once, when an input arrives, and stores and plays exactly what it returns.
+    """
+    if not isinstance(data, str | bytes | dict):
+        raise RuleError(Refusal.MALFORMED, "an input is a JSON object")
+    try:
+        if isinstance(data, dict):
+            return _INPUT.validate_python(data)
+        return _INPUT.validate_json(data)
+    except ValidationError as exc:
+        raise _malformed(exc) from None
+
+
+def check_canonical(action: Shot | Choice) -> None:
+    """Refuse an input that bypassed validation (`model_construct`) or is not canonical:
+    validating its fields again must give the same input."""
+    try:
+        again = _INPUT.validate_python(action.model_dump())
+    except ValidationError as exc:
+        raise _malformed(exc) from None
+    if again != action:
+        raise RuleError(Refusal.MALFORMED, "the input is not in canonical (quantised) form")

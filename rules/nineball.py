@@ -20,52 +20,60 @@ or in a pocket) and the re-rack options, which a one-rack game has no use for.
 
 from __future__ import annotations
 
-from rules import pool
-from rules.events import read_shot
-from rules.inputs import Shot
-from rules.racks import rack
-from rules.spots import POOL_TABLE, Point
-from rules.state import Decision, RuleError, State, other
+from collections.abc import Mapping
 
+import physics
+from rules import pool
+from rules.codes import NoteCode
+from rules.events import read_shot
+from rules.inputs import Shot, ShotOptions
+from rules.racks import Game, rack
+from rules.spots import POOL_TABLE, Point
+from rules.state import Decision, State, note, other
+
+GAME = Game.NINEBALL
 TABLE = POOL_TABLE
 FOULS_TO_LOSE = 3
+#: The shot right after the break, the only one that may be a push-out.
+PUSH_OUT_SHOT = 1
 
 
 def new_game(seed: int, gap: float = 0.0, target: int = 0) -> State:
-    return State(game="nineball", balls=rack("nineball", seed, gap), ball_in_hand="kitchen")
+    return State(game=GAME, balls=rack(GAME, seed, gap), ball_in_hand="kitchen")
 
 
 def cue_ball(state: State) -> str:
     return "cue"
 
 
-def check_shot(state: State, shot: Shot) -> None:
-    if shot.push_out and state.shots != 1:
-        raise RuleError("a push-out is only allowed on the shot right after the break")
-    if shot.call is not None or shot.nominate is not None:
-        raise RuleError("nine-ball has no called pockets or nominations")
+def lowest(balls: Mapping[str, Point]) -> str:
+    return min(pool.object_balls(balls), key=int)
 
 
-def lowest(balls: dict[str, Point]) -> str:
-    return min((b for b in balls if b != "cue"), key=int)
+def targets(state: State, balls: Mapping[str, Point]) -> frozenset[str]:
+    return frozenset({lowest(balls)})
+
+
+def options(state: State) -> ShotOptions:
+    return ShotOptions(push_out=True) if state.shots == PUSH_OUT_SHOT else pool.PLAIN
 
 
 def judge(
-    state: State, shot: Shot, before: dict[str, Point], result: dict
+    state: State, shot: Shot, before: dict[str, Point], result: physics.Shot
 ) -> tuple[State, Decision]:
     me, opp = state.turn, other(state.turn)
     facts = read_shot(result, "cue", before)
     on = lowest(before)
     breaking = state.shots == 0
     if shot.push_out:
-        fouls = ["cue ball pocketed (scratch)"] if facts.cue_pocketed else []
+        fouls = [pool.SCRATCH] if facts.cue_pocketed else []
     else:
-        fouls = pool.contact_fouls(facts, {on}, f"the {on}", rail=not breaking)
+        fouls = pool.contact_fouls(facts, frozenset({on}), f"the {on}", rail=not breaking)
         if breaking:
             fouls += pool.break_fouls(facts)
     positions = dict(facts.positions)
     respotted: dict[str, Point] = {}
-    notes: list[str] = ["push-out"] if shot.push_out else []
+    notes = [note(NoteCode.PUSH_OUT, "push-out")] if shot.push_out else []
     nine_down = "9" in facts.pocketed
     if nine_down and (fouls or shot.push_out):
         respotted["9"] = positions["9"] = pool.respot_on_foot_spot(positions)
@@ -75,11 +83,11 @@ def judge(
     winner = None
     if fouls and fouls_now[me] >= FOULS_TO_LOSE:
         winner = opp
-        notes.append(f"{FOULS_TO_LOSE} fouls in a row lose the rack")
+        notes.append(note(NoteCode.THREE_FOULS, f"{FOULS_TO_LOSE} fouls in a row lose the rack"))
     elif nine_down and not fouls and not shot.push_out:
         winner = me
     elif fouls and fouls_now[me] == FOULS_TO_LOSE - 1:
-        notes.append(f"P{me + 1} is on {FOULS_TO_LOSE - 1} fouls")
+        notes.append(note(NoteCode.FOUL_WARNING, f"P{me + 1} is on {FOULS_TO_LOSE - 1} fouls"))
 
     if winner is not None:
         nxt, bih, pending = winner, None, ()

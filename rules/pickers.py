@@ -9,7 +9,8 @@ fixed fan of strokes through the engine and play the first that scores (else the
 ball touched the most balls and cushions). After a foul or a push-out the picker plays on.
 
 Everything is deterministic: the same state gives the same input, so a self-played game is
-reproducible from its seed alone, and aims are rounded so records stay short.
+reproducible from its seed alone. What a player may do comes from the game's referee
+(rules.referee), never from the game's name.
 """
 
 from __future__ import annotations
@@ -17,11 +18,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from rules import eightball, snooker
+import physics
 from rules.aim import ghost, path_clear
-from rules.game import REFEREES, Simulate, default_simulate, scene
-from rules.inputs import Choice, PlayerInput, Shot, Strike
-from rules.nineball import lowest
+from rules.game import Simulate, scene
+from rules.inputs import PLACE_STEPS, Choice, PlayerInput, Shot, Strike, quantise
+from rules.racks import Game
+from rules.referee import allowed, referee
 from rules.spots import BAULK_Y, Point, Table, in_region, is_free
 from rules.state import State
 from rules.three_cushion import count_point
@@ -32,7 +34,8 @@ MIN_CUT_COS = 0.35
 CORNER_APPROACH, SIDE_APPROACH = 55.0, 35.0
 #: Distance (m) behind the ghost ball at which a placed cue ball is put.
 PLACE_BEHIND = 0.25
-BREAK_SPEED = {"nineball": 8.0, "eightball": 8.0, "snooker": 4.5}
+#: Games the picker breaks by driving the cue ball at the rack's apex, and how hard (m/s).
+BREAK_SPEED = {Game.NINEBALL: 8.0, Game.EIGHTBALL: 8.0}
 
 
 @dataclass(frozen=True, slots=True)
@@ -61,7 +64,9 @@ def _opening(table: Table, name: str) -> tuple[Point, float]:
     return pocket.center, (dx / math.sqrt(2), dy / math.sqrt(2))
 
 
-def pot_aims(table: Table, cue: Point, balls: dict[str, Point], targets: set[str]) -> list[Aim]:
+def pot_aims(
+    table: Table, cue: Point, balls: dict[str, Point], targets: frozenset[str]
+) -> list[Aim]:
     """Every makeable straight pot of one of `targets`, easiest first."""
     R = table.R
     aims = []
@@ -122,7 +127,9 @@ def _full_and_half_ball(cue: Point, target: Point, R: float) -> list[Point]:
     return [target, (target[0] + px, target[1] + py), (target[0] - px, target[1] - py)]
 
 
-def contact_heading(table: Table, cue: Point, balls: dict[str, Point], targets: set[str]) -> float:
+def contact_heading(
+    table: Table, cue: Point, balls: dict[str, Point], targets: frozenset[str]
+) -> float:
     """A heading that reaches a legal ball: full or half ball in a straight line if the path
     is clear, else off a cushion (mirror the ball in the cushion line), else straight at the
     nearest legal ball."""
@@ -140,12 +147,13 @@ def contact_heading(table: Table, cue: Point, balls: dict[str, Point], targets: 
     return _heading(cue, balls[by_distance[0]])
 
 
-def _targets(state: State, balls: dict[str, Point]) -> set[str]:
-    if state.game == "nineball":
-        return {lowest(balls)}
-    if state.game == "eightball":
-        return eightball.targets(state, balls)[0]
-    return snooker.balls_on(state.on, balls)
+def _targets(state: State, balls: dict[str, Point]) -> frozenset[str]:
+    return referee(state.game).targets(state, balls)
+
+
+def _on_grid(p: Point) -> Point:
+    """A placement as the input will hold it, so that it is checked where it will be."""
+    return (quantise(p[0], PLACE_STEPS), quantise(p[1], PLACE_STEPS))
 
 
 def _placements(state: State, table: Table, balls: dict[str, Point]) -> list[Point]:
@@ -176,8 +184,9 @@ def _placements(state: State, table: Table, balls: dict[str, Point]) -> list[Poi
             for j in (0, 1, 2)
             for i in range(1, 8)
         ]
+    placed = [_on_grid(p) for p in found]
     return [
-        p for p in found if in_region(p, state.ball_in_hand, table) and is_free(p, balls, table.R)
+        p for p in placed if in_region(p, state.ball_in_hand, table) and is_free(p, balls, table.R)
     ]
 
 
@@ -201,10 +210,10 @@ def _plan(state: State, table: Table, balls: dict[str, Point]) -> tuple[Point, A
 
 
 def pick_table_game(state: State) -> Shot:
-    """A shot for nine-ball, eight-ball or snooker."""
-    table = REFEREES[state.game].TABLE
+    """A shot for a game on a table with pockets (nine-ball, eight-ball, snooker)."""
+    table = referee(state.game).TABLE
     balls = dict(state.balls)
-    if state.shots == 0 and state.game != "snooker":
+    if state.shots == 0 and state.game in BREAK_SPEED:
         apex = min((b for b in balls if b != "cue"), key=lambda b: balls[b][1])
         heading = _heading(balls["cue"], balls[apex])
         return Shot(strike=Strike(ball="cue", speed=BREAK_SPEED[state.game], heading=heading))
@@ -220,10 +229,9 @@ def pick_table_game(state: State) -> Shot:
         strike = Strike(ball="cue", speed=2.5, heading=heading)
         target = min(targets, key=lambda t: (math.dist(cue, balls[t]), t))
         pocket = min(table.pockets, key=lambda p: math.dist(p.center, balls[target])).name
-    call = None
-    if state.game == "eightball" and state.shots > 0 and targets == {"8"}:
-        call = pocket
-    nominate = target if state.game == "snooker" and state.on == "colour" else None
+    may = referee(state.game).options(state)
+    call = pocket if may.call else None
+    nominate = target if target in may.nominate else None
     return Shot(strike=strike, place=place, call=call, nominate=nominate)
 
 
@@ -233,15 +241,16 @@ CAROM_OFFSETS = tuple(o for k in range(0, 61, 3) for o in ((k, -k) if k else (0,
 CAROM_SPEED = 3.5
 
 
-def pick_three_cushion(state: State, simulate: Simulate) -> Shot:
-    cue = REFEREES["three_cushion"].cue_ball(state)
+def pick_carom(state: State, simulate: Simulate) -> Shot:
+    """A shot for three-cushion: the first candidate stroke that scores, tried in the engine."""
+    cue = referee(state.game).cue_ball(state)
     base = _heading(state.balls[cue], state.balls["red"])
     best, best_key = None, (-1, -1)
     for offset in CAROM_OFFSETS:
         for side in (0.3, -0.3):
             strike = Strike(ball=cue, speed=CAROM_SPEED, heading=round(base + offset, 4), a=side)
             shot = Shot(strike=strike)
-            events = simulate(scene(state, shot, state.balls))["events"]
+            events = simulate(scene(state, shot, state.balls)).events
             scored, touched, cushions = count_point(events, cue)
             if scored and (state.shots > 0 or touched[0] == "red"):
                 return shot
@@ -250,10 +259,10 @@ def pick_three_cushion(state: State, simulate: Simulate) -> Shot:
     return best
 
 
-def pick(state: State, simulate: Simulate = default_simulate) -> PlayerInput:
+def pick(state: State, simulate: Simulate = physics.simulate) -> PlayerInput:
     """The picker's next input for the player to act in `state`."""
-    if state.pending:
+    if allowed(state).choices:
         return Choice(option="play_on")
-    if state.game == "three_cushion":
-        return pick_three_cushion(state, simulate)
+    if not referee(state.game).TABLE.pockets:
+        return pick_carom(state, simulate)
     return pick_table_game(state)

@@ -7,9 +7,13 @@ A break is legal when a ball is pocketed or at least four object balls touch a c
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
+from rules.codes import FoulCode
 from rules.events import ShotFacts
+from rules.inputs import ShotOptions
 from rules.spots import POOL_TABLE, Point, place_near
-from rules.state import Decision, Region, State, award, conclude
+from rules.state import Decision, Foul, Note, Region, State, award, conclude, foul
 
 POCKETS = ("bottom_left", "bottom_right", "middle_left", "middle_right", "top_left", "top_right")
 
@@ -17,7 +21,11 @@ POCKETS = ("bottom_left", "bottom_right", "middle_left", "middle_right", "top_le
 BREAK_CUSHION_BALLS = 4
 
 
-def contact_fouls(facts: ShotFacts, targets: set[str], wanted: str, rail: bool) -> list[str]:
+#: What a pool shot may declare when the game has nothing special on.
+PLAIN = ShotOptions()
+
+
+def contact_fouls(facts: ShotFacts, targets: frozenset[str], wanted: str, rail: bool) -> list[Foul]:
     """The fouls of an ordinary shot: scratch, no contact, wrong ball first, no rail.
 
     `wanted` names the legal first ball(s) for the reason ("the 3", "one of the solids");
@@ -25,23 +33,33 @@ def contact_fouls(facts: ShotFacts, targets: set[str], wanted: str, rail: bool) 
     """
     fouls = []
     if facts.cue_pocketed:
-        fouls.append("cue ball pocketed (scratch)")
+        fouls.append(SCRATCH)
     if facts.first_hit is None:
-        fouls.append("cue ball hit no ball")
+        fouls.append(foul(FoulCode.NO_CONTACT, "cue ball hit no ball"))
     elif facts.first_hit not in targets:
-        fouls.append(f"cue ball did not hit {wanted} first (hit the {facts.first_hit})")
+        why = f"cue ball did not hit {wanted} first (hit the {facts.first_hit})"
+        fouls.append(foul(FoulCode.WRONG_BALL_FIRST, why, facts.first_hit))
     elif rail and not facts.pocketed and not facts.cushion_after_contact:
-        fouls.append("no ball was pocketed and no ball reached a cushion after contact")
+        why = "no ball was pocketed and no ball reached a cushion after contact"
+        fouls.append(foul(FoulCode.NO_RAIL, why))
     return fouls
 
 
-def break_fouls(facts: ShotFacts) -> list[str]:
+SCRATCH = foul(FoulCode.CUE_POCKETED, "cue ball pocketed (scratch)")
+
+
+def break_fouls(facts: ShotFacts) -> list[Foul]:
     if facts.pocketed or len(facts.cushioned) >= BREAK_CUSHION_BALLS:
         return []
-    return [
+    why = (
         f"illegal break: no ball pocketed and only {len(facts.cushioned)} object balls "
         f"reached a cushion (at least {BREAK_CUSHION_BALLS} needed)"
-    ]
+    )
+    return [foul(FoulCode.ILLEGAL_BREAK, why)]
+
+
+def object_balls(balls: Mapping[str, Point]) -> list[str]:
+    return [b for b in balls if b != "cue"]
 
 
 def respot_on_foot_spot(positions: dict[str, Point]) -> Point:
@@ -55,9 +73,9 @@ def conclude_rack(
     facts: ShotFacts,
     balls: dict[str, Point],
     verdict: tuple[int, Region | None, int | None],
-    fouls: list[str],
+    fouls: list[Foul],
     respotted: dict[str, Point],
-    notes: list[str],
+    notes: list[Note],
     **fields,
 ) -> tuple[State, Decision]:
     """`conclude` for a pool rack: `balls` after respots; verdict: (next player, ball in hand,

@@ -24,11 +24,19 @@ from __future__ import annotations
 
 import math
 import random
-from typing import Literal
+from enum import StrEnum
 
 from rules.spots import CAROM_TABLE, CLEARANCE, POOL_TABLE, SNOOKER, SNOOKER_SPOTS, Point
 
-GameName = Literal["nineball", "eightball", "snooker", "three_cushion"]
+
+class Game(StrEnum):
+    """The four rule sets; the value is the name records and the wire use."""
+
+    NINEBALL = "nineball"
+    EIGHTBALL = "eightball"
+    SNOOKER = "snooker"
+    THREE_CUSHION = "three_cushion"
+
 
 #: Ball ids of the pool games and of snooker.
 SOLIDS = tuple(str(n) for n in range(1, 8))
@@ -125,14 +133,14 @@ def three_cushion(seed: int, gap: float = 0.0) -> dict[str, Point]:
 
 
 RACKS = {
-    "nineball": nineball,
-    "eightball": eightball,
-    "snooker": snooker,
-    "three_cushion": three_cushion,
+    Game.NINEBALL: nineball,
+    Game.EIGHTBALL: eightball,
+    Game.SNOOKER: snooker,
+    Game.THREE_CUSHION: three_cushion,
 }
 
 
-def rack(game: GameName, seed: int, gap: float = 0.0) -> dict[str, Point]:
+def rack(game: Game, seed: int, gap: float = 0.0) -> dict[str, Point]:
     """The starting layout of `game` for `seed` (see the module docstring)."""
     if not (math.isfinite(gap) and 0.0 <= gap <= 0.005):
         raise ValueError(f"rack gap must be between 0 and 0.005 m, got {gap!r}")

@@ -1,35 +1,125 @@
-"""A game as data: its setup and the players' inputs, and the replay that rebuilds every state.
+"""A game record that proves its game: setup, inputs, and what the inputs led to.
 
-The engine is deterministic and the referees are pure, so a record of a few hundred bytes per
-shot stands for the whole game: the match server and the leaderboard verify a claimed result
-or break by replaying the record and reading the states, never by trusting a client.
+The engine is deterministic and the referees are pure, so setup and inputs determine every
+state. A record also states what happened, so that a verifier can tell the game it replays from
+the game the record claims: the engine version (always stored: another engine would replay
+another game), after each input a 16-bit digest of the state it led to, and the final scores,
+winner and a 64-bit digest of the whole game. `replay` recomputes all of them and refuses a
+record whose replay differs anywhere, naming the first input where it does; an altered record
+is refused whether or not its inputs are still legal.
+
+The digests form a chain: each link hashes the previous link and the new state, so the final
+digest commits to every state of the game, and each input's 16-bit digest is the start of its
+link. A state is hashed with positions quantised to `POSITION_STEPS` (its other fields are
+integers and names), as msgpack of its fields in their declared order.
 """
 
 from __future__ import annotations
 
-from typing import Annotated
+import hashlib
+from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field
+import msgpack
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+import physics
 from physics import ENGINE_VERSION
-from rules.game import Setup, Simulate, default_simulate, play, start
+from rules.codes import Refusal, RuleError
+from rules.game import Setup, Simulate, play, start
 from rules.inputs import PlayerInput
-from rules.state import Decision, RuleError, State
+from rules.state import Decision, State
 
 #: More inputs than any real game needs: a record this long is refused, not replayed.
 MAX_INPUTS = 5000
+#: Positions are hashed in micrometres.
+POSITION_STEPS = 1_000_000
+#: Bytes of a chain link (the final digest) and of each input's digest.
+LINK_BYTES, MARK_BYTES = 8, 2
+
+
+def _canonical(state: State) -> Any:
+    """The state as plain data for hashing: positions quantised, balls sorted by name."""
+    data = state.model_dump(mode="json")
+    data["balls"] = [
+        [b, round(x * POSITION_STEPS), round(y * POSITION_STEPS)]
+        for b, (x, y) in sorted(state.balls.items())
+    ]
+    if state.retake is not None:
+        data["retake"] = _canonical(state.retake)
+    return data
+
+
+def link(previous: bytes, state: State) -> bytes:
+    """The next chain link: a hash of the previous link and `state`."""
+    packed = msgpack.packb(_canonical(state))
+    return hashlib.blake2b(previous + packed, digest_size=LINK_BYTES).digest()
+
+
+def mark(chain: bytes) -> int:
+    """An input's digest: the first MARK_BYTES of its link, as an integer."""
+    return int.from_bytes(chain[:MARK_BYTES], "big")
+
+
+Count = Annotated[int, Field(strict=True, ge=0)]
+Hex = Annotated[str, Field(pattern=f"^[0-9a-f]{{{2 * LINK_BYTES}}}$")]
+
+
+class Final(BaseModel):
+    """The game as the record claims it ended: scores, winner (None: not over or no winner
+    yet) and the last chain link (hex), which commits to every state."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    scores: tuple[Count, Count]
+    winner: Annotated[int, Field(strict=True, ge=0, le=1)] | None = None
+    digest: Hex
 
 
 class GameRecord(BaseModel):
-    """Rule set, rack seed and options (`setup`), then every input in the order played."""
+    """Engine version, rule set and rack (`setup`), every input in the order played with the
+    digest of the state after it (`digests`, one per input), and the `final` result."""
 
-    model_config = ConfigDict(extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid")
 
+    engine: Annotated[str, Field(min_length=1, max_length=32)]
     setup: Setup
-    inputs: Annotated[list[PlayerInput], Field(max_length=MAX_INPUTS)] = []
+    inputs: Annotated[tuple[PlayerInput, ...], Field(max_length=MAX_INPUTS)] = ()
+    digests: Annotated[
+        tuple[Annotated[int, Field(strict=True, ge=0, lt=2 ** (8 * MARK_BYTES))], ...],
+        Field(max_length=MAX_INPUTS),
+    ] = ()
+    final: Final
+
+    @model_validator(mode="after")
+    def _one_digest_per_input(self) -> GameRecord:
+        if len(self.digests) != len(self.inputs):
+            raise ValueError(f"{len(self.inputs)} inputs but {len(self.digests)} digests")
+        return self
+
+    @classmethod
+    def begin(cls, setup: Setup, first: State | None = None) -> GameRecord:
+        """The record of a game not yet played (`first`: its start, if already built)."""
+        first = start(setup) if first is None else first
+        chain = link(b"", first)
+        return cls(
+            engine=ENGINE_VERSION,
+            setup=setup,
+            final=Final(scores=first.scores, winner=first.winner, digest=chain.hex()),
+        )
+
+    def extend(self, action: PlayerInput, state: State) -> GameRecord:
+        """This record with one more input, which led to `state`."""
+        chain = link(bytes.fromhex(self.final.digest), state)
+        return self.model_copy(
+            update={
+                "inputs": (*self.inputs, action),
+                "digests": (*self.digests, mark(chain)),
+                "final": Final(scores=state.scores, winner=state.winner, digest=chain.hex()),
+            }
+        )
 
     def to_json(self) -> str:
-        """Compact JSON: fields at their defaults are left out."""
+        """Compact JSON: fields at their defaults are left out (the engine is never defaulted)."""
         return self.model_dump_json(exclude_defaults=True)
 
     @classmethod
@@ -56,16 +146,39 @@ class Replay(BaseModel):
         return self.steps[-1].state if self.steps else self.start
 
 
-def replay(record: GameRecord, simulate: Simulate = default_simulate) -> Replay:
-    """Play the record's inputs from its rack; raises RuleError at the first illegal input,
-    or at once for a record played under another engine version (it would not replay)."""
-    if record.setup.engine != ENGINE_VERSION:
+def _differs(n: int, what: str) -> RuleError:
+    return RuleError(Refusal.REPLAY_DIFFERS, f"input #{n}: {what} differs from the record's")
+
+
+def replay(record: GameRecord, simulate: Simulate = physics.simulate) -> Replay:
+    """Play the record's inputs from its rack and check every digest and the final result.
+
+    Raises RuleError naming the first input (#1 is the first) that is illegal (its refusal's
+    code) or whose replayed state differs from the record (REPLAY_DIFFERS), and refuses at
+    once a record of another engine version (ENGINE_VERSION).
+    """
+    if record.engine != ENGINE_VERSION:
         raise RuleError(
-            f"record played with engine {record.setup.engine}, this is engine {ENGINE_VERSION}"
+            Refusal.ENGINE_VERSION,
+            f"record played with engine {record.engine}, this is engine {ENGINE_VERSION}",
         )
     state = first = start(record.setup)
+    chain = link(b"", first)
     steps = []
-    for action in record.inputs:
-        state, decision = play(state, action, simulate)
-        steps.append(Step(action=action, decision=decision, state=state))
+    for n, (action, digest) in enumerate(zip(record.inputs, record.digests, strict=True), 1):
+        try:
+            outcome = play(state, action, simulate)
+        except RuleError as exc:
+            raise RuleError(exc.code, f"input #{n}: {exc.reason}") from None
+        state = outcome.state
+        chain = link(chain, state)
+        if mark(chain) != digest:
+            raise _differs(n, "the state after it")
+        steps.append(Step(action=action, decision=outcome.decision, state=state))
+    last = len(record.inputs)
+    claimed = record.final
+    if (state.scores, state.winner) != (claimed.scores, claimed.winner):
+        raise _differs(last, "the final result")
+    if chain.hex() != claimed.digest:
+        raise _differs(last, "the final digest")
     return Replay(start=first, steps=steps)

@@ -38,15 +38,19 @@ in the snookered test (only balls obstruct here).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from itertools import pairwise
 
+import physics
 from rules.aim import snookered
+from rules.codes import FoulCode, NoteCode
 from rules.events import ShotFacts, read_shot
-from rules.inputs import Shot
-from rules.racks import rack
+from rules.inputs import Shot, ShotOptions
+from rules.racks import Game, rack
 from rules.spots import SNOOKER, SNOOKER_SPOTS, Point, is_free, place_near
-from rules.state import Decision, RuleError, State, award, conclude, other
+from rules.state import Decision, Foul, Note, State, award, conclude, foul, note, other
 
+GAME = Game.SNOOKER
 TABLE = SNOOKER
 COLOURS = ("yellow", "green", "brown", "blue", "pink", "black")
 VALUES = {"yellow": 2, "green": 3, "brown": 4, "blue": 5, "pink": 6, "black": 7}
@@ -55,7 +59,7 @@ MIN_PENALTY, MAX_PENALTY = 4, 7
 
 
 def new_game(seed: int, gap: float = 0.0, target: int = 0) -> State:
-    return State(game="snooker", balls=rack("snooker", seed, gap), ball_in_hand="D", on="red")
+    return State(game=GAME, balls=rack(GAME, seed, gap), ball_in_hand="D", on="red")
 
 
 def cue_ball(state: State) -> str:
@@ -70,30 +74,28 @@ def value(ball: str) -> int:
     return 1 if is_red(ball) else VALUES[ball]
 
 
-def balls_on(on: str, balls: dict[str, Point], colour: str | None = None) -> set[str]:
+def balls_on(on: str, balls: Mapping[str, Point], colour: str | None = None) -> frozenset[str]:
     """The balls on for the stage `on`; after a red, `colour` narrows "any colour" to one."""
     if on == "red":
-        return {b for b in balls if is_red(b)}
+        return frozenset(b for b in balls if is_red(b))
     if on == "colour":
-        return {colour} if colour else {b for b in balls if b in VALUES}
-    return {on}
+        return frozenset({colour} if colour else (b for b in balls if b in VALUES))
+    return frozenset({on})
 
 
-def check_shot(state: State, shot: Shot) -> None:
-    if shot.push_out or shot.call is not None:
-        raise RuleError("snooker has no push-outs or called pockets")
-    n = shot.nominate
-    if n is None:
-        return
-    if n not in state.balls or n == "cue":
-        raise RuleError(f"cannot nominate {n!r}: not an object ball on the table")
+def targets(state: State, balls: Mapping[str, Point]) -> frozenset[str]:
+    return balls_on(state.on, balls)
+
+
+def options(state: State) -> ShotOptions:
+    """A free ball may be any object ball but the ball on; after a red, any colour may be
+    nominated; otherwise nothing is nominated."""
     if state.free_ball:
-        if n in balls_on(state.on, state.balls):
-            raise RuleError(f"the free ball must be a ball other than the ball on ({n} is on)")
-    elif state.on != "colour":
-        raise RuleError(f"no free ball and no colour to nominate: the ball on is {state.on}")
-    elif n not in VALUES:
-        raise RuleError(f"nominate a colour, not {n}")
+        on = balls_on(state.on, state.balls)
+        return ShotOptions(nominate=frozenset(state.balls) - on - {"cue"})
+    if state.on == "colour":
+        return ShotOptions(nominate=balls_on("colour", state.balls))
+    return ShotOptions()
 
 
 def respot_colours(colours: list[str], positions: dict[str, Point]) -> dict[str, Point]:
@@ -138,7 +140,7 @@ def _snookers_behind(free: str, on: str, facts: ShotFacts) -> bool:
 
 
 def judge(
-    state: State, shot: Shot, before: dict[str, Point], result: dict
+    state: State, shot: Shot, before: dict[str, Point], result: physics.Shot
 ) -> tuple[State, Decision]:
     me, opp = state.turn, other(state.turn)
     facts = read_shot(result, "cue", before)
@@ -151,26 +153,30 @@ def judge(
     legal = on_set | ({free} if free else set())
     on_value = value(colour) if colour else (value(state.on) if state.on != "colour" else 0)
 
-    fouls: list[str] = []
+    fouls: list[Foul] = []
     concerned = [on_value]
     on_words = {"red": "a red", "colour": colour or "a colour"}.get(state.on, state.on)
     if facts.cue_pocketed:
-        fouls.append("cue ball pocketed (in-off)")
+        fouls.append(foul(FoulCode.CUE_POCKETED, "cue ball pocketed (in-off)"))
     if facts.first_hit is None:
-        fouls.append(f"cue ball hit no ball (the ball on was {on_words})")
+        why = f"cue ball hit no ball (the ball on was {on_words})"
+        fouls.append(foul(FoulCode.NO_CONTACT, why))
     elif facts.first_hit not in legal:
-        fouls.append(f"cue ball hit the {facts.first_hit} first, not {on_words}")
+        why = f"cue ball hit the {facts.first_hit} first, not {on_words}"
+        fouls.append(foul(FoulCode.WRONG_BALL_FIRST, why, facts.first_hit))
         concerned.append(value(facts.first_hit))
     for b in facts.pocketed:
         if b not in legal:
-            fouls.append(f"the {b} was pocketed but was not on")
+            why = f"the {b} was pocketed but was not on"
+            fouls.append(foul(FoulCode.POCKETED_NOT_ON, why, b))
             concerned.append(value(b))
     if free and not fouls and not facts.pocketed and _snookers_behind(free, state.on, facts):
-        fouls.append(f"the free ball ({free}) left the opponent snookered")
+        why = f"the free ball ({free}) left the opponent snookered"
+        fouls.append(foul(FoulCode.FREE_BALL_SNOOKER, why, free))
 
     positions = dict(facts.positions)
     potted_colours = [b for b in facts.pocketed if b in VALUES]
-    notes: list[str] = []
+    notes: list[Note] = []
     if fouls:
         penalty = min(MAX_PENALTY, max(MIN_PENALTY, *concerned))
         points = award(opp, penalty)
@@ -203,7 +209,7 @@ def judge(
         positions.pop("cue", None)
         positions.pop("black", None)
         common["respotted"] = respot_colours(["black"], positions)
-        notes.append("scores level: the black is respotted")
+        notes.append(note(NoteCode.BLACK_RESPOTTED, "scores level: the black is respotted"))
         lot = state.shots % 2
         return conclude(
             state,
@@ -223,9 +229,9 @@ def judge(
         miss = facts.first_hit not in legal and not snookered("cue", legal, before, SNOOKER.R)
         options = ("play_on", "play_again", "replace") if miss else ("play_on", "play_again")
         if miss:
-            notes.append("foul and a miss")
+            notes.append(note(NoteCode.MISS, "foul and a miss"))
         if free_next:
-            notes.append("free ball")
+            notes.append(note(NoteCode.FREE_BALL, "free ball"))
         return conclude(
             state,
             next_player=opp,
@@ -233,7 +239,7 @@ def judge(
             options=options,
             on=on_next,
             free_ball=free_next,
-            retake=state.model_copy(update={"retake": None}) if miss else None,
+            retake=state.evolve(retake=None) if miss else None,
             visit=0,
             **common,
         )

@@ -7,23 +7,39 @@ that the others never see them. States are immutable; a referee returns a new on
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict
 
+from rules.codes import FoulCode, NoteCode, RuleError
 from rules.inputs import Option
-from rules.racks import GameName
+from rules.racks import Game
 from rules.spots import Point
+
+__all__ = ["Decision", "Foul", "Group", "Note", "Region", "RuleError", "State"]
 
 Region = Literal["anywhere", "kitchen", "D"]
 Group = Literal["solids", "stripes"]
 
 
-class RuleError(ValueError):
-    """An input the rules do not allow here (out of turn, a bad placement, a wrong choice).
+class Foul(BaseModel):
+    """A foul: its code (what clients test and translate), its reason in words, and the ball
+    it concerns when there is one (hit first in error, pocketed in error, the free ball)."""
 
-    Raised before anything is simulated, so a rejected input changes nothing.
-    """
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    code: FoulCode
+    reason: str
+    ball: str | None = None
+
+
+class Note(BaseModel):
+    """Anything else a referee says about a shot (a push-out, a group taken, a point made)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    code: NoteCode
+    text: str
 
 
 class State(BaseModel):
@@ -44,9 +60,9 @@ class State(BaseModel):
     target (three-cushion: points to win).
     """
 
-    model_config = ConfigDict(frozen=True)
+    model_config = ConfigDict(frozen=True, extra="forbid")
 
-    game: GameName
+    game: Game
     balls: dict[str, Point]
     turn: int = 0
     scores: tuple[int, int] = (0, 0)
@@ -64,23 +80,28 @@ class State(BaseModel):
     retake: State | None = None
     target: int = 0
 
+    def evolve(self, **changes: Any) -> State:
+        """This state with `changes`, validated: a misspelt field or a wrong type is an error
+        (pydantic's `model_copy(update=...)` would store either silently)."""
+        return State.model_validate({**dict(self), **changes})
+
 
 class Decision(BaseModel):
     """What the referee ruled about one shot, in the order a player reads it.
 
-    fouls: each foul in plain words. points: added to each player's score by this shot
+    fouls: each foul, a code and its reason. points: added to each player's score by this shot
     (penalties go to the opponent). respotted: balls put back and where. note: anything else
-    worth saying (a push-out, a group taken, a point made).
+    worth saying (a push-out, a group taken, a point made), each a code and its words.
     """
 
-    model_config = ConfigDict(frozen=True)
+    model_config = ConfigDict(frozen=True, extra="forbid")
 
     player: int
-    fouls: tuple[str, ...] = ()
+    fouls: tuple[Foul, ...] = ()
     points: tuple[int, int] = (0, 0)
     pocketed: tuple[str, ...] = ()
     respotted: dict[str, Point] = {}
-    notes: tuple[str, ...] = ()
+    notes: tuple[Note, ...] = ()
     next_player: int
     ball_in_hand: Region | None = None
     options: tuple[Option, ...] = ()
@@ -92,8 +113,8 @@ class Decision(BaseModel):
         parts = [f"P{self.player + 1}"]
         if self.pocketed:
             parts.append("pocketed " + ", ".join(self.pocketed))
-        parts += [f"FOUL: {f}" for f in self.fouls]
-        parts += list(self.notes)
+        parts += [f"FOUL: {f.reason}" for f in self.fouls]
+        parts += [n.text for n in self.notes]
         if any(self.points):
             parts.append(f"points {self.points[0]}-{self.points[1]}")
         if self.respotted:
@@ -108,6 +129,14 @@ class Decision(BaseModel):
                 nxt += " to choose " + " / ".join(self.options)
             parts.append(nxt)
         return "; ".join(parts)
+
+
+def foul(code: FoulCode, reason: str, ball: str | None = None) -> Foul:
+    return Foul(code=code, reason=reason, ball=ball)
+
+
+def note(code: NoteCode, text: str) -> Note:
+    return Note(code=code, text=text)
 
 
 def other(player: int) -> int:
@@ -128,11 +157,11 @@ def conclude(
     *,
     balls: dict[str, Point],
     next_player: int,
-    fouls: list[str] | tuple[str, ...] = (),
+    fouls: list[Foul] | tuple[Foul, ...] = (),
     points: tuple[int, int] = (0, 0),
     pocketed: tuple[str, ...] = (),
     respotted: dict[str, Point] | None = None,
-    notes: list[str] | tuple[str, ...] = (),
+    notes: list[Note] | tuple[Note, ...] = (),
     ball_in_hand: Region | None = None,
     options: tuple[Option, ...] = (),
     winner: int | None = None,
@@ -144,18 +173,16 @@ def conclude(
     `game_fields` are the game-specific State fields the shot changed.
     """
     over = winner is not None
-    new = state.model_copy(
-        update={
-            "balls": balls,
-            "turn": next_player,
-            "scores": add_points(state.scores, points),
-            "ball_in_hand": None if over else ball_in_hand,
-            "shots": state.shots + 1,
-            "pending": () if over else options,
-            "over": over,
-            "winner": winner,
-            **game_fields,
-        }
+    new = state.evolve(
+        balls=balls,
+        turn=next_player,
+        scores=add_points(state.scores, points),
+        ball_in_hand=None if over else ball_in_hand,
+        shots=state.shots + 1,
+        pending=() if over else options,
+        over=over,
+        winner=winner,
+        **game_fields,
     )
     decision = Decision(
         player=state.turn,

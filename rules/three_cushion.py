@@ -17,12 +17,18 @@ a ball with the hand or cue).
 
 from __future__ import annotations
 
-from rules.events import CUSHION_EVENTS, read_shot
-from rules.inputs import Shot
-from rules.racks import rack
-from rules.spots import CAROM_TABLE, Point
-from rules.state import Decision, RuleError, State, award, conclude, other
+from collections.abc import Mapping
 
+import physics
+from physics.trajectory import Event
+from rules.codes import FoulCode, NoteCode
+from rules.events import CUSHION_EVENTS, read_shot
+from rules.inputs import Shot, ShotOptions
+from rules.racks import Game, rack
+from rules.spots import CAROM_TABLE, Point
+from rules.state import Decision, Foul, State, award, conclude, foul, note, other
+
+GAME = Game.THREE_CUSHION
 TABLE = CAROM_TABLE
 CUE_BALLS = ("white", "yellow")
 CUSHIONS_NEEDED = 3
@@ -31,8 +37,8 @@ DEFAULT_TARGET = 15
 
 def new_game(seed: int, gap: float = 0.0, target: int = 0) -> State:
     return State(
-        game="three_cushion",
-        balls=rack("three_cushion", seed, gap),
+        game=GAME,
+        balls=rack(GAME, seed, gap),
         target=target or DEFAULT_TARGET,
     )
 
@@ -41,23 +47,29 @@ def cue_ball(state: State) -> str:
     return CUE_BALLS[state.turn]
 
 
-def check_shot(state: State, shot: Shot) -> None:
-    if shot.push_out or shot.call is not None or shot.nominate is not None:
-        raise RuleError("three-cushion has no push-outs, calls or nominations")
+def targets(state: State, balls: Mapping[str, Point]) -> frozenset[str]:
+    """The red on the break, either object ball afterwards."""
+    if state.shots == 0:
+        return frozenset({"red"})
+    return frozenset(balls) - {cue_ball(state)}
 
 
-def count_point(events: list[dict], cue: str) -> tuple[bool, list[str], int]:
+def options(state: State) -> ShotOptions:
+    return ShotOptions()
+
+
+def count_point(events: list[Event], cue: str) -> tuple[bool, list[str], int]:
     """Whether `cue` scored, the object balls it touched in order, and its cushions before
     the second object ball (or in all, if it never reached it)."""
     touched: list[str] = []
     cushions = 0
     for ev in events:
-        if cue not in ev["balls"]:
+        if cue not in ev.balls:
             continue
-        if ev["type"] in CUSHION_EVENTS:
+        if ev.type in CUSHION_EVENTS:
             cushions += 1
-        elif ev["type"] == "ball_ball":
-            hit = next(b for b in ev["balls"] if b != cue)
+        elif ev.type == "ball_ball":
+            hit = next(b for b in ev.balls if b != cue)
             if hit not in touched:
                 touched.append(hit)
                 if len(touched) == 2:
@@ -66,22 +78,25 @@ def count_point(events: list[dict], cue: str) -> tuple[bool, list[str], int]:
 
 
 def judge(
-    state: State, shot: Shot, before: dict[str, Point], result: dict
+    state: State, shot: Shot, before: dict[str, Point], result: physics.Shot
 ) -> tuple[State, Decision]:
     me, opp = state.turn, other(state.turn)
     cue = cue_ball(state)
-    scored, touched, cushions = count_point(result["events"], cue)
-    notes: list[str] = []
-    fouls: list[str] = []
+    scored, touched, cushions = count_point(result.events, cue)
+    fouls: list[Foul] = []
     if state.shots == 0 and touched and touched[0] != "red":
-        fouls.append(f"on the break the cue ball must hit the red first (hit the {touched[0]})")
+        why = f"on the break the cue ball must hit the red first (hit the {touched[0]})"
+        fouls.append(foul(FoulCode.BREAK_NOT_RED, why, touched[0]))
         scored = False
     if scored:
-        notes.append(f"point ({cushions} cushions before the second ball)")
+        said = note(NoteCode.POINT, f"point ({cushions} cushions before the second ball)")
     elif len(touched) == 2:
-        notes.append(f"no point: only {cushions} cushions before the second ball")
+        why = f"no point: only {cushions} cushions before the second ball"
+        said = note(NoteCode.NO_POINT_CUSHIONS, why)
     else:
-        notes.append(f"no point: the cue ball touched {len(touched)} object ball(s)")
+        why = f"no point: the cue ball touched {len(touched)} object ball(s)"
+        said = note(NoteCode.NO_POINT_CONTACT, why)
+    notes = [said]
     positions = read_shot(result, cue, before).positions
     visit = state.visit + int(scored)
     best = list(state.best)

@@ -8,8 +8,9 @@ import math
 
 import pytest
 
-from rules.game import REFEREES, Setup
+from rules.game import Setup
 from rules.record import GameRecord, Replay, replay
+from rules.referee import referee
 from rules.selfplay import selfplay
 from rules.snooker import value
 from rules.spots import is_free, on_table
@@ -34,7 +35,7 @@ MAX_INPUTS = 300
 
 def check_table(state: State) -> None:
     """Every ball on the table, none overlapping another."""
-    table = REFEREES[state.game].TABLE
+    table = referee(state.game).TABLE
     for b, p in state.balls.items():
         assert on_table(p, table) or state.game == "three_cushion", b
     for (a, p), (b, q) in itertools.combinations(state.balls.items(), 2):
@@ -54,7 +55,7 @@ def check_step(prev: State, step, start: State) -> None:
     assert objects(new) == (objects(prev) - set(d.pocketed)) | set(d.respotted)
     assert set(d.pocketed) <= objects(prev) and "cue" not in d.pocketed
     # Respots land on the table and on no other ball.
-    table = REFEREES[new.game].TABLE
+    table = referee(new.game).TABLE
     for b, p in d.respotted.items():
         others = {k: q for k, q in new.balls.items() if k != b}
         assert new.balls[b] == p and on_table(p, table) and is_free(p, others, table.R)

@@ -1,0 +1,221 @@
+"""The compact form of a game record, for share links: msgpack of fixed-point integers,
+deflated, in base64url.
+
+`pack`/`unpack` give and read the msgpack bytes, `encode`/`decode` the link text. The numbers
+are the integers the inputs are canonical in (rules.inputs), so a decoded record is the
+record, bit for bit. The msgpack document is one array:
+
+    [FORMAT, engine, game, seed, gap, target, inputs, digests, scores, winner, digest]
+
+game: index in `Game`. gap: a float. inputs: one flat array of integers (and a string where a
+name is not one of the table's). digests: the per-input 16-bit digests as one byte string.
+digest: the final 8-byte chain link. Each input in `inputs` starts with a head integer:
+
+- a choice: head = -1 - (index of the option in OPTIONS), nothing follows;
+- a shot: head = heading * 256 + flags (heading in 1e-4 degree steps, in [0, 3,600,000)),
+  then the speed (mm/s), then the values the flags announce, in the flags' order: elevation
+  (0.01 degree), a, b (1e-3 R), place x, y (0.1 mm), call (pocket), nominate (ball), and the
+  struck ball, stored only when it is not the previous shot's (the first shot's is compared
+  with "cue"). A ball or pocket is its index among the table's sorted names, or its name.
+
+A typical shot (heading, speed and draw) takes ten bytes, a choice one; see bench/records.py.
+"""
+
+from __future__ import annotations
+
+import base64
+import binascii
+import zlib
+from typing import Any
+
+import msgpack
+from pydantic import ValidationError
+
+from rules.codes import Refusal, RuleError
+from rules.game import Setup
+from rules.inputs import (
+    ELEVATION_STEPS,
+    HEADING_STEPS,
+    OPTIONS,
+    PLACE_STEPS,
+    SPEED_STEPS,
+    TIP_STEPS,
+    Choice,
+    PlayerInput,
+    Shot,
+    fixed,
+    heading_steps,
+)
+from rules.racks import Game, rack
+from rules.record import GameRecord
+from rules.referee import referee
+
+FORMAT = 1
+#: Largest compact record accepted, deflated and inflated (bytes): far above MAX_INPUTS shots.
+MAX_INFLATED = 1 << 18
+
+ELEVATION, A, B, PLACE, PUSH_OUT, CALL, NOMINATE, BALL = (1 << k for k in range(8))
+FLAGS = 256
+GAMES = tuple(Game)
+
+
+def _names(setup: Setup) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The ball and pocket names a record's inputs may refer to by index."""
+    pockets = tuple(sorted(p.name for p in referee(setup.game).TABLE.pockets))
+    return tuple(sorted(rack(setup.game, setup.seed, setup.gap))), pockets
+
+
+def _name(value: str, names: tuple[str, ...]) -> int | str:
+    return names.index(value) if value in names else value
+
+
+def _shot_ints(shot: Shot, previous_ball: str, balls, pockets) -> list[int | str]:
+    s = shot.strike
+    optional = [
+        (ELEVATION, s.elevation != 0.0, [fixed(s.elevation, ELEVATION_STEPS)]),
+        (A, s.a != 0.0, [fixed(s.a, TIP_STEPS)]),
+        (B, s.b != 0.0, [fixed(s.b, TIP_STEPS)]),
+        (PLACE, shot.place is not None, [fixed(v, PLACE_STEPS) for v in shot.place or ()]),
+        (PUSH_OUT, shot.push_out, []),
+        (CALL, shot.call is not None, [_name(shot.call or "", pockets)]),
+        (NOMINATE, shot.nominate is not None, [_name(shot.nominate or "", balls)]),
+        (BALL, s.ball != previous_ball, [_name(s.ball, balls)]),
+    ]
+    flags, tail = 0, []
+    for flag, present, values in optional:
+        if present:
+            flags |= flag
+            tail += values
+    return [heading_steps(s.heading) * FLAGS + flags, fixed(s.speed, SPEED_STEPS), *tail]
+
+
+def _pack_inputs(record: GameRecord) -> list[int | str]:
+    balls, pockets = _names(record.setup)
+    out: list[int | str] = []
+    ball = "cue"
+    for action in record.inputs:
+        if isinstance(action, Choice):
+            out.append(-1 - OPTIONS.index(action.option))
+        else:
+            out += _shot_ints(action, ball, balls, pockets)
+            ball = action.strike.ball
+    return out
+
+
+def pack(record: GameRecord) -> bytes:
+    """The record as msgpack (before compression)."""
+    s, f = record.setup, record.final
+    digests = b"".join(d.to_bytes(2, "big") for d in record.digests)
+    doc = [FORMAT, record.engine, GAMES.index(s.game), s.seed, s.gap, s.target]
+    doc += [_pack_inputs(record), digests, list(f.scores), f.winner, bytes.fromhex(f.digest)]
+    return msgpack.packb(doc)
+
+
+def encode(record: GameRecord) -> str:
+    """The share-link text: pack, raw deflate, base64url without padding."""
+    deflate = zlib.compressobj(9, zlib.DEFLATED, -15)
+    data = deflate.compress(pack(record)) + deflate.flush()
+    return base64.urlsafe_b64encode(data).rstrip(b"=").decode("ascii")
+
+
+class _Reader:
+    """Reads the flat input integers back into inputs."""
+
+    def __init__(self, values: list[Any], setup: Setup) -> None:
+        self.values, self.at = values, 0
+        self.balls, self.pockets = _names(setup)
+
+    def take(self) -> Any:
+        if self.at >= len(self.values):
+            raise ValueError("the inputs end inside a shot")
+        self.at += 1
+        return self.values[self.at - 1]
+
+    def number(self, steps: int) -> float:
+        value = self.take()
+        if type(value) is not int:
+            raise ValueError("a fixed-point value is not an integer")
+        return value / steps
+
+    def name(self, names: tuple[str, ...]) -> str:
+        value = self.take()
+        if type(value) is int and 0 <= value < len(names):
+            return names[value]
+        if isinstance(value, str):
+            return value
+        raise ValueError(f"bad name reference {value!r}")
+
+    def inputs(self) -> list[PlayerInput]:
+        found: list[PlayerInput] = []
+        ball = "cue"
+        while self.at < len(self.values):
+            head = self.take()
+            if type(head) is not int:
+                raise ValueError("an input does not start with an integer")
+            if head < 0:
+                found.append(Choice(option=OPTIONS[-1 - head]))
+                continue
+            shot = self.shot(head, ball)
+            ball = shot.strike.ball
+            found.append(shot)
+        return found
+
+    def shot(self, head: int, previous_ball: str) -> Shot:
+        flags = head % FLAGS
+        strike: dict[str, Any] = {
+            "heading": head // FLAGS / HEADING_STEPS,
+            "speed": self.number(SPEED_STEPS),
+        }
+        fields: dict[str, Any] = {"push_out": bool(flags & PUSH_OUT)}
+        if flags & ELEVATION:
+            strike["elevation"] = self.number(ELEVATION_STEPS)
+        for flag, key in ((A, "a"), (B, "b")):
+            if flags & flag:
+                strike[key] = self.number(TIP_STEPS)
+        if flags & PLACE:
+            fields["place"] = (self.number(PLACE_STEPS), self.number(PLACE_STEPS))
+        if flags & CALL:
+            fields["call"] = self.name(self.pockets)
+        if flags & NOMINATE:
+            fields["nominate"] = self.name(self.balls)
+        strike["ball"] = self.name(self.balls) if flags & BALL else previous_ball
+        return Shot.model_validate({"strike": strike, **fields})
+
+
+def unpack(data: bytes) -> GameRecord:
+    """A record from its msgpack bytes; raises RuleError (MALFORMED) for anything else."""
+    try:
+        doc = msgpack.unpackb(data, strict_map_key=True)
+        version, engine, game, seed, gap, target, ints, digests, scores, winner, last = doc
+        if version != FORMAT or type(game) is not int or not 0 <= game < len(GAMES):
+            raise ValueError("not a compact record of this format")
+        if not isinstance(digests, bytes) or len(digests) % 2 or not isinstance(last, bytes):
+            raise ValueError("bad digests")
+        setup = Setup(game=GAMES[game], seed=seed, gap=gap, target=target)
+        if not isinstance(ints, list):
+            raise ValueError("inputs must be an array")
+        return GameRecord(
+            engine=engine,
+            setup=setup,
+            inputs=_Reader(ints, setup).inputs(),
+            digests=[int.from_bytes(digests[k : k + 2], "big") for k in range(0, len(digests), 2)],
+            final={"scores": scores, "winner": winner, "digest": last.hex()},
+        )
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        raise RuleError(Refusal.MALFORMED, f"compact record: {first['msg']}") from None
+    except (ValueError, TypeError, IndexError, msgpack.ExtraData) as exc:
+        raise RuleError(Refusal.MALFORMED, f"compact record: {exc}") from None
+
+
+def decode(text: str) -> GameRecord:
+    """A record from its share-link text; raises RuleError (MALFORMED) for anything else."""
+    try:
+        raw = base64.urlsafe_b64decode(text.strip() + "=" * (-len(text.strip()) % 4))
+        inflate = zlib.decompressobj(-15)
+        data = inflate.decompress(raw, MAX_INFLATED)
+        if inflate.unconsumed_tail or not inflate.eof:
+            raise ValueError("too large or truncated")
+    except (binascii.Error, zlib.error, ValueError) as exc:
+        raise RuleError(Refusal.MALFORMED, f"compact record: not a share link ({exc})") from None
+    return unpack(data)
