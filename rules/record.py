@@ -8,10 +8,12 @@ winner and a 64-bit digest of the whole game. `replay` recomputes all of them an
 record whose replay differs anywhere, naming the first input where it does; an altered record
 is refused whether or not its inputs are still legal.
 
-The digests form a chain: each link hashes the previous link and the new state, so the final
-digest commits to every state of the game, and each input's 16-bit digest is the start of its
-link. A state is hashed with positions quantised to `POSITION_STEPS` (its other fields are
-integers and names), as msgpack of its fields in their declared order.
+The digests form a chain: each link hashes the previous link, the input and the state it led
+to, so the final digest commits to every input and every state of the game (an input changed
+without changing any state, such as the heading of a shot that pockets the cue ball and touches
+nothing, is still caught), and each input's 16-bit digest is the start of its link. A state is
+hashed with positions quantised to `POSITION_STEPS` (its other fields are integers and names),
+as msgpack of its fields in their declared order; an input as msgpack of its JSON form.
 """
 
 from __future__ import annotations
@@ -49,9 +51,11 @@ def _canonical(state: State) -> Any:
     return data
 
 
-def link(previous: bytes, state: State) -> bytes:
-    """The next chain link: a hash of the previous link and `state`."""
-    packed = msgpack.packb(_canonical(state))
+def link(previous: bytes, state: State, action: PlayerInput | None = None) -> bytes:
+    """The next chain link: a hash of the previous link, the input and the state it led to
+    (the first link, of the start, has no input)."""
+    said = None if action is None else action.model_dump(mode="json")
+    packed = msgpack.packb([said, _canonical(state)])
     return hashlib.blake2b(previous + packed, digest_size=LINK_BYTES).digest()
 
 
@@ -109,7 +113,7 @@ class GameRecord(BaseModel):
 
     def extend(self, action: PlayerInput, state: State) -> GameRecord:
         """This record with one more input, which led to `state`."""
-        chain = link(bytes.fromhex(self.final.digest), state)
+        chain = link(bytes.fromhex(self.final.digest), state, action)
         return self.model_copy(
             update={
                 "inputs": (*self.inputs, action),
@@ -171,9 +175,9 @@ def replay(record: GameRecord, simulate: Simulate = physics.simulate) -> Replay:
         except RuleError as exc:
             raise RuleError(exc.code, f"input #{n}: {exc.reason}") from None
         state = outcome.state
-        chain = link(chain, state)
+        chain = link(chain, state, action)
         if mark(chain) != digest:
-            raise _differs(n, "the state after it")
+            raise _differs(n, "the input or the state it led to")
         steps.append(Step(action=action, decision=outcome.decision, state=state))
     last = len(record.inputs)
     claimed = record.final

@@ -1,50 +1,56 @@
-"""Game records: compact JSON, strict validation, replays that refuse forged or illegal input."""
+"""Game records: they state the engine, every state's digest and the result, and a replay
+refuses any record that is not the game it states, naming the first input where it differs."""
 
 from __future__ import annotations
 
 import json
-import math
+import random
+from collections import Counter
 
 import pytest
-from pydantic import ValidationError
 
+from physics import ENGINE_VERSION
+from rules.codes import Refusal, RuleError
 from rules.game import Setup, play, start
 from rules.inputs import Choice, Shot, Strike
-from rules.record import GameRecord, replay
-from rules.state import RuleError, State
+from rules.record import GameRecord, link, replay
+from rules.selfplay import selfplay
+from rules.state import State
+from rules.tamper import ALTERATIONS
 
-from .script import hit, rail, scripted
+from .script import hit, rail, refused, scripted
 
 BREAK = Shot(strike=Strike(ball="cue", speed=8.0, heading=90.0))
+LEGAL_BREAK = scripted([hit("cue", "1"), *(rail(b) for b in "2356")])
 
 
-def test_record_round_trips_through_compact_json():
-    record = GameRecord(
-        setup=Setup(game="nineball", seed=9),
-        inputs=[BREAK, Choice(option="play_on"), Shot(strike=BREAK.strike, push_out=True)],
-    )
-    text = record.to_json()
-    assert GameRecord.from_json(text) == record
-    data = json.loads(text)
+def recorded(setup: Setup, inputs, simulate) -> GameRecord:
+    """A true record of `inputs` played from `setup` through `simulate`."""
+    state = start(setup)
+    record = GameRecord.begin(setup, state)
+    for action in inputs:
+        state = play(state, action, simulate).state
+        record = record.extend(action, state)
+    return record
+
+
+def test_a_record_always_states_its_engine_and_result():
+    record = recorded(Setup(game="nineball", seed=9), [BREAK], LEGAL_BREAK)
+    data = json.loads(record.to_json())
+    assert data["engine"] == ENGINE_VERSION  # stored although it is the current version
     assert data["setup"] == {"game": "nineball", "seed": 9}  # defaults left out
-    assert data["inputs"][0] == {"strike": {"ball": "cue", "speed": 8.0, "heading": 90.0}}
-    assert data["inputs"][1] == {"option": "play_on"}
+    assert data["inputs"] == [{"strike": {"ball": "cue", "speed": 8.0, "heading": 90.0}}]
+    assert len(data["digests"]) == 1 and data["final"]["scores"] == [0, 0]
+    assert GameRecord.from_json(record.to_json()) == record
+    without = {k: v for k, v in data.items() if k != "engine"}
+    with pytest.raises(ValueError, match="engine"):
+        GameRecord.model_validate(without)
 
 
-@pytest.mark.parametrize(
-    "strike",
-    [
-        {"ball": "cue", "speed": math.nan, "heading": 90.0},
-        {"ball": "cue", "speed": 13.0, "heading": 90.0},
-        {"ball": "cue", "speed": 0.0, "heading": 90.0},
-        {"ball": "cue", "speed": 3.0, "heading": math.inf},
-        {"ball": "cue", "speed": 3.0, "heading": 90.0, "a": 0.4, "b": 0.4},
-        {"ball": "cue", "speed": 3.0, "heading": 90.0, "english": 1.0},
-    ],
-)
-def test_bad_strikes_are_refused(strike):
-    with pytest.raises(ValidationError):
-        Shot.model_validate({"strike": strike})
+def test_a_record_needs_one_digest_per_input():
+    record = recorded(Setup(game="nineball", seed=9), [BREAK], LEGAL_BREAK)
+    with pytest.raises(ValueError, match="1 inputs but 0 digests"):
+        GameRecord.model_validate({**record.model_dump(), "digests": []})
 
 
 @pytest.mark.parametrize(
@@ -52,35 +58,51 @@ def test_bad_strikes_are_refused(strike):
     [
         {"game": "pool", "seed": 1},
         {"game": "nineball", "seed": -1},
+        {"game": "nineball", "seed": "1"},
+        {"game": "nineball", "seed": True},
         {"game": "nineball", "seed": 1, "gap": 0.1},
         {"game": "three_cushion", "seed": 1, "target": -5},
     ],
 )
 def test_bad_setups_are_refused(setup):
-    with pytest.raises(ValidationError):
+    with pytest.raises(ValueError):
         Setup.model_validate(setup)
 
 
-def test_a_forged_input_stops_the_replay():
+def test_a_forged_input_stops_the_replay_naming_it():
     # P2 may not choose anything after a legal break, whatever the record claims.
-    record = GameRecord(setup=Setup(game="nineball", seed=1), inputs=[BREAK, BREAK])
-    record.inputs[1] = Choice(option="play_again")
-    with pytest.raises(RuleError, match="not an option"):
-        replay(record, scripted([hit("cue", "1"), *(rail(b) for b in "2356")]))
+    record = recorded(Setup(game="nineball", seed=1), [BREAK], LEGAL_BREAK)
+    forged = record.model_copy(
+        update={"inputs": (BREAK, Choice(option="play_again")), "digests": (record.digests[0], 0)}
+    )
+    with refused(Refusal.NOT_AN_OPTION):
+        replay(forged, LEGAL_BREAK)
+    with pytest.raises(RuleError, match="^input #2: "):
+        replay(forged, LEGAL_BREAK)
 
 
-def test_replay_with_the_same_engine_output_reproduces_every_state():
-    record = GameRecord(setup=Setup(game="nineball", seed=4), inputs=[BREAK])
-    sim = scripted([hit("cue", "1"), *(rail(b) for b in "2356")])
-    one, two = replay(record, sim), replay(record, sim)
-    assert one == two and one.final.turn == 1 and one.final.shots == 1
+def test_a_wrong_digest_is_refused_at_its_input():
+    record = recorded(Setup(game="nineball", seed=4), [BREAK, BREAK], LEGAL_BREAK)
+    assert replay(record, LEGAL_BREAK).final.shots == 2
+    bad = record.model_copy(update={"digests": (record.digests[0], record.digests[1] ^ 1)})
+    with pytest.raises(RuleError, match="^input #2: the input or the state it led to differs") as caught:
+        replay(bad, LEGAL_BREAK)
+    assert caught.value.code == Refusal.REPLAY_DIFFERS
+
+
+def test_a_replay_through_another_engine_output_is_refused():
+    # The same inputs judged on different events are a different game: the digests say so.
+    record = recorded(Setup(game="nineball", seed=4), [BREAK], LEGAL_BREAK)
+    other = scripted([hit("cue", "1"), *(rail(b) for b in "2356")], moved={"4": (0.5, 1.5)})
+    with refused(Refusal.REPLAY_DIFFERS):
+        replay(record, other)
 
 
 def test_a_refused_input_changes_nothing():
     state = start(Setup(game="snooker", seed=1))
     before = state.model_copy(deep=True)
     bad = Shot(strike=Strike(ball="cue", speed=2.0, heading=90.0), place=(0.889, 2.0))
-    with pytest.raises(RuleError, match="in the D"):
+    with refused(Refusal.OUTSIDE_REGION):
         play(state, bad, scripted([]))
     assert state == before
 
@@ -89,12 +111,55 @@ def test_states_round_trip_through_json_exactly():
     # A foul and a miss leaves a nested retake state; the server stores states as JSON.
     state = start(Setup(game="snooker", seed=2, gap=0.0003))
     shot = Shot(strike=Strike(ball="cue", speed=2.0, heading=91.0), place=(0.95, 0.7))
-    after, _ = play(state, shot, scripted([hit("cue", "pink"), rail("pink")]))
+    after = play(state, shot, scripted([hit("cue", "pink"), rail("pink")])).state
     assert after.retake is not None and "replace" in after.pending
     assert State.model_validate_json(after.model_dump_json()) == after
 
 
+def test_state_digests_see_every_field_and_quantise_positions():
+    state = start(Setup(game="snooker", seed=2))
+    base = link(b"", state)
+    assert link(b"", state.evolve(visit=1)) != base
+    assert link(b"", state.evolve(retake=state.evolve(turn=1))) != base
+    x, y = state.balls["cue"]
+    assert link(b"", state.evolve(balls={**state.balls, "cue": (x + 2e-6, y)})) != base
+    assert link(b"", state.evolve(balls={**state.balls, "cue": (x + 1e-12, y)})) == base
+
+
 def test_a_record_from_another_engine_version_is_refused():
-    record = GameRecord(setup=Setup(game="nineball", seed=1, engine="0"))
-    with pytest.raises(RuleError, match="engine 0"):
+    record = GameRecord.begin(Setup(game="nineball", seed=1)).model_copy(update={"engine": "0"})
+    with pytest.raises(RuleError, match="engine 0") as caught:
         replay(record)
+    assert caught.value.code == Refusal.ENGINE_VERSION
+
+
+#: Small real games for the tamper test (the engine plays a nine-ball rack in ~25 ms).
+TAMPERED_GAMES = [("nineball", 0), ("nineball", 5), ("eightball", 4), ("three_cushion", 4)]
+
+
+@pytest.fixture(scope="module")
+def real_records() -> list[GameRecord]:
+    records = []
+    for game, seed in TAMPERED_GAMES:
+        record, _ = selfplay(Setup(game=game, seed=seed, gap=0.0002, target=2), max_inputs=60)
+        records.append(record)
+    return records
+
+
+def test_every_alteration_of_a_real_record_is_refused(real_records):
+    rng = random.Random(9)
+    tried, refusals = Counter(), Counter()
+    for record in real_records:
+        assert replay(record).final.over  # the genuine record replays
+        for kind, alter in ALTERATIONS.items():
+            for _ in range(2):
+                altered = alter(record, rng)
+                if altered is None or altered == record:
+                    continue
+                tried[kind] += 1
+                with pytest.raises(RuleError, match=r"^input #\d+: ") as caught:
+                    replay(altered)
+                refusals[caught.value.code] += 1
+    # Every kind was tried, and most alterations stay legal: only the digests catch them.
+    assert set(tried) == set(ALTERATIONS)
+    assert refusals[Refusal.REPLAY_DIFFERS] > sum(tried.values()) / 2
