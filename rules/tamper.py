@@ -31,7 +31,8 @@ def _with_input(record: GameRecord, k: int, action) -> GameRecord:
 def _nudge_strike(record: GameRecord, k: int, **delta: float) -> GameRecord:
     shot = record.inputs[k]
     s = shot.strike
-    strike = s.model_validate({**s.model_dump(), **{f: getattr(s, f) + d for f, d in delta.items()}})
+    moved = {f: getattr(s, f) + d for f, d in delta.items()}
+    strike = s.model_validate({**s.model_dump(), **moved})
     return _with_input(record, k, shot.model_copy(update={"strike": strike}))
 
 

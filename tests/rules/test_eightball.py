@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import pytest
-
+from rules.codes import FoulCode, NoteCode, Refusal
 from rules.eightball import new_game
 from rules.spots import POOL_TABLE, is_free
-from rules.codes import FoulCode, NoteCode, Refusal
 from rules.state import State
 
 from .script import codes, hit, pot, rail, refused, shoot

@@ -6,11 +6,11 @@ import math
 
 import pytest
 
+from rules.codes import FoulCode, NoteCode, Refusal
 from rules.game import choose, play
 from rules.inputs import Choice, Shot, Strike
 from rules.nineball import new_game
 from rules.spots import POOL_TABLE
-from rules.codes import FoulCode, NoteCode, Refusal
 from rules.state import State
 
 from .script import codes, hit, jaw, pot, rail, refused, scripted, shoot

@@ -77,7 +77,7 @@ def test_a_forged_input_stops_the_replay_naming_it():
     )
     with refused(Refusal.NOT_AN_OPTION):
         replay(forged, LEGAL_BREAK)
-    with pytest.raises(RuleError, match="^input #2: "):
+    with pytest.raises(RuleError, match=r"^input #2: "):
         replay(forged, LEGAL_BREAK)
 
 
@@ -85,7 +85,9 @@ def test_a_wrong_digest_is_refused_at_its_input():
     record = recorded(Setup(game="nineball", seed=4), [BREAK, BREAK], LEGAL_BREAK)
     assert replay(record, LEGAL_BREAK).final.shots == 2
     bad = record.model_copy(update={"digests": (record.digests[0], record.digests[1] ^ 1)})
-    with pytest.raises(RuleError, match="^input #2: the input or the state it led to differs") as caught:
+    with pytest.raises(
+        RuleError, match=r"^input #2: the input or the state it led to differs"
+    ) as caught:
         replay(bad, LEGAL_BREAK)
     assert caught.value.code == Refusal.REPLAY_DIFFERS
 

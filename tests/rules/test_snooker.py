@@ -6,10 +6,10 @@ import math
 
 import pytest
 
+from rules.codes import FoulCode, NoteCode, Refusal
 from rules.game import choose
 from rules.inputs import Choice
 from rules.spots import SNOOKER, SNOOKER_SPOTS
-from rules.codes import FoulCode, NoteCode, Refusal
 from rules.state import State
 
 from .script import codes, hit, pot, rail, refused, shoot
@@ -40,12 +40,20 @@ def test_colour_after_a_red_scores_its_value_and_is_respotted():
 
 def test_nominated_colour_must_be_hit_first():
     _, d = shoot(table(on="colour"), hit("cue", "pink"), rail("pink"), nominate="blue")
-    assert codes(d.fouls) == (FoulCode.WRONG_BALL_FIRST,) and d.fouls[0].ball == "pink" and d.points == (0, 6)
+    assert (
+        codes(d.fouls) == (FoulCode.WRONG_BALL_FIRST,)
+        and d.fouls[0].ball == "pink"
+        and d.points == (0, 6)
+    )
 
 
 def test_potting_a_colour_when_on_a_red_is_a_foul_valued_at_the_colour():
     state, d = shoot(table(), hit("cue", "red1"), pot("pink"))
-    assert codes(d.fouls) == (FoulCode.POCKETED_NOT_ON,) and d.fouls[0].ball == "pink" and d.points == (0, 6)
+    assert (
+        codes(d.fouls) == (FoulCode.POCKETED_NOT_ON,)
+        and d.fouls[0].ball == "pink"
+        and d.points == (0, 6)
+    )
     assert state.balls["pink"] == SNOOKER_SPOTS["pink"] and state.turn == 1
     assert state.pending == ("play_on", "play_again")  # the red was hit: not a miss
 
@@ -108,7 +116,11 @@ def test_colours_stage_potted_colour_stays_down_and_the_next_is_on():
 
 def test_colours_stage_potting_the_wrong_colour_is_a_foul_and_it_is_respotted():
     state, d = shoot(table(reds=0, on="yellow"), hit("cue", "yellow"), pot("green"))
-    assert codes(d.fouls) == (FoulCode.POCKETED_NOT_ON,) and d.fouls[0].ball == "green" and d.points == (0, 4)
+    assert (
+        codes(d.fouls) == (FoulCode.POCKETED_NOT_ON,)
+        and d.fouls[0].ball == "green"
+        and d.points == (0, 4)
+    )
     assert state.balls["green"] == SNOOKER_SPOTS["green"] and state.on == "yellow"
 
 

@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import pytest
-
+from rules.codes import FoulCode, NoteCode, Refusal
 from rules.game import play
 from rules.inputs import Shot, Strike
-from rules.codes import FoulCode, NoteCode, Refusal
 from rules.state import State
 from rules.three_cushion import new_game
 
