@@ -7,18 +7,20 @@ record, bit for bit. The msgpack document is one array:
 
     [FORMAT, engine, game, seed, gap, target, inputs, digests, scores, winner, digest]
 
-game: index in `Game`. gap: a float. inputs: one flat array of integers (and a string where a
+game: index in `Game`. gap: in 1e-7 m. inputs: one flat array of integers (and a string where a
 name is not one of the table's). digests: the per-input 16-bit digests as one byte string.
 digest: the final 8-byte chain link. Each input in `inputs` starts with a head integer:
 
 - a choice: head = -1 - (index of the option in OPTIONS), nothing follows;
 - a shot: head = heading * 256 + flags (heading in 1e-4 degree steps, in [0, 3,600,000)),
   then the speed (mm/s), then the values the flags announce, in the flags' order: elevation
-  (0.01 degree), a, b (1e-3 R), place x, y (0.1 mm), call (pocket), nominate (ball), and the
-  struck ball, stored only when it is not the previous shot's (the first shot's is compared
-  with "cue"). A ball or pocket is its index among the table's sorted names, or its name.
+  (0.01 degree), a, b (1e-3 R), place x, y (0.1 mm), call (pocket), nominate (ball), struck
+  ball. Elevation, a, b and the struck ball are stored only when they differ from the previous
+  shot's (before the first shot: the cue ball "cue", struck level at the centre). A ball or
+  pocket is its index among the table's sorted names, or its name.
 
-A typical shot (heading, speed and draw) takes ten bytes, a choice one; see bench/records.py.
+A shot with heading and speed only takes eight bytes, a choice one, each digest two more; see
+bench/records.py.
 """
 
 from __future__ import annotations
@@ -32,7 +34,7 @@ import msgpack
 from pydantic import ValidationError
 
 from rules.codes import Refusal, RuleError
-from rules.game import Setup
+from rules.game import GAP_STEPS, Setup
 from rules.inputs import (
     ELEVATION_STEPS,
     HEADING_STEPS,
@@ -43,6 +45,7 @@ from rules.inputs import (
     Choice,
     PlayerInput,
     Shot,
+    Strike,
     fixed,
     heading_steps,
 )
@@ -69,17 +72,21 @@ def _name(value: str, names: tuple[str, ...]) -> int | str:
     return names.index(value) if value in names else value
 
 
-def _shot_ints(shot: Shot, previous_ball: str, balls, pockets) -> list[int | str]:
+#: What a shot's repeated values are compared with before the first shot.
+BEFORE = Strike(ball="cue", speed=1.0, heading=0.0)
+
+
+def _shot_ints(shot: Shot, last: Strike, balls, pockets) -> list[int | str]:
     s = shot.strike
     optional = [
-        (ELEVATION, s.elevation != 0.0, [fixed(s.elevation, ELEVATION_STEPS)]),
-        (A, s.a != 0.0, [fixed(s.a, TIP_STEPS)]),
-        (B, s.b != 0.0, [fixed(s.b, TIP_STEPS)]),
+        (ELEVATION, s.elevation != last.elevation, [fixed(s.elevation, ELEVATION_STEPS)]),
+        (A, s.a != last.a, [fixed(s.a, TIP_STEPS)]),
+        (B, s.b != last.b, [fixed(s.b, TIP_STEPS)]),
         (PLACE, shot.place is not None, [fixed(v, PLACE_STEPS) for v in shot.place or ()]),
         (PUSH_OUT, shot.push_out, []),
         (CALL, shot.call is not None, [_name(shot.call or "", pockets)]),
         (NOMINATE, shot.nominate is not None, [_name(shot.nominate or "", balls)]),
-        (BALL, s.ball != previous_ball, [_name(s.ball, balls)]),
+        (BALL, s.ball != last.ball, [_name(s.ball, balls)]),
     ]
     flags, tail = 0, []
     for flag, present, values in optional:
@@ -92,13 +99,13 @@ def _shot_ints(shot: Shot, previous_ball: str, balls, pockets) -> list[int | str
 def _pack_inputs(record: GameRecord) -> list[int | str]:
     balls, pockets = _names(record.setup)
     out: list[int | str] = []
-    ball = "cue"
+    last = BEFORE
     for action in record.inputs:
         if isinstance(action, Choice):
             out.append(-1 - OPTIONS.index(action.option))
         else:
-            out += _shot_ints(action, ball, balls, pockets)
-            ball = action.strike.ball
+            out += _shot_ints(action, last, balls, pockets)
+            last = action.strike
     return out
 
 
@@ -106,7 +113,7 @@ def pack(record: GameRecord) -> bytes:
     """The record as msgpack (before compression)."""
     s, f = record.setup, record.final
     digests = b"".join(d.to_bytes(2, "big") for d in record.digests)
-    doc = [FORMAT, record.engine, GAMES.index(s.game), s.seed, s.gap, s.target]
+    doc = [FORMAT, record.engine, GAMES.index(s.game), s.seed, fixed(s.gap, GAP_STEPS), s.target]
     doc += [_pack_inputs(record), digests, list(f.scores), f.winner, bytes.fromhex(f.digest)]
     return msgpack.packb(doc)
 
@@ -147,7 +154,7 @@ class _Reader:
 
     def inputs(self) -> list[PlayerInput]:
         found: list[PlayerInput] = []
-        ball = "cue"
+        last = BEFORE
         while self.at < len(self.values):
             head = self.take()
             if type(head) is not int:
@@ -155,30 +162,31 @@ class _Reader:
             if head < 0:
                 found.append(Choice(option=OPTIONS[-1 - head]))
                 continue
-            shot = self.shot(head, ball)
-            ball = shot.strike.ball
+            shot = self.shot(head, last)
+            last = shot.strike
             found.append(shot)
         return found
 
-    def shot(self, head: int, previous_ball: str) -> Shot:
+    def shot(self, head: int, last: Strike) -> Shot:
         flags = head % FLAGS
         strike: dict[str, Any] = {
             "heading": head // FLAGS / HEADING_STEPS,
             "speed": self.number(SPEED_STEPS),
         }
         fields: dict[str, Any] = {"push_out": bool(flags & PUSH_OUT)}
-        if flags & ELEVATION:
-            strike["elevation"] = self.number(ELEVATION_STEPS)
-        for flag, key in ((A, "a"), (B, "b")):
-            if flags & flag:
-                strike[key] = self.number(TIP_STEPS)
+        for flag, key, steps in (
+            (ELEVATION, "elevation", ELEVATION_STEPS),
+            (A, "a", TIP_STEPS),
+            (B, "b", TIP_STEPS),
+        ):
+            strike[key] = self.number(steps) if flags & flag else getattr(last, key)
         if flags & PLACE:
             fields["place"] = (self.number(PLACE_STEPS), self.number(PLACE_STEPS))
         if flags & CALL:
             fields["call"] = self.name(self.pockets)
         if flags & NOMINATE:
             fields["nominate"] = self.name(self.balls)
-        strike["ball"] = self.name(self.balls) if flags & BALL else previous_ball
+        strike["ball"] = self.name(self.balls) if flags & BALL else last.ball
         return Shot.model_validate({"strike": strike, **fields})
 
 
@@ -191,7 +199,9 @@ def unpack(data: bytes) -> GameRecord:
             raise ValueError("not a compact record of this format")
         if not isinstance(digests, bytes) or len(digests) % 2 or not isinstance(last, bytes):
             raise ValueError("bad digests")
-        setup = Setup(game=GAMES[game], seed=seed, gap=gap, target=target)
+        if type(gap) is not int:
+            raise ValueError("the gap is not an integer")
+        setup = Setup(game=GAMES[game], seed=seed, gap=gap / GAP_STEPS, target=target)
         if not isinstance(ints, list):
             raise ValueError("inputs must be an array")
         return GameRecord(

@@ -14,11 +14,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 import physics
 from rules.codes import Refusal, RuleError
-from rules.inputs import Choice, PlayerInput, Shot, check_canonical
+from rules.inputs import Choice, PlayerInput, Shot, check_canonical, quantise
 from rules.racks import Game
 from rules.referee import allowed, referee
 from rules.spots import Point, in_region, is_free
@@ -30,6 +30,9 @@ REGION_WORDS = {
     "D": "in the D",
 }
 
+#: Rack gaps are in steps of 1e-7 m.
+GAP_STEPS = 10_000_000
+
 #: The engine as the referees use it: a validated scene in, the typed shot out.
 Simulate = Callable[[physics.Scene], physics.Shot]
 
@@ -37,7 +40,8 @@ Simulate = Callable[[physics.Scene], physics.Shot]
 class Setup(BaseModel):
     """What fixes a game before the first shot: the rule set, the rack seed and options.
 
-    gap: the largest extra space between rack balls (m), see `rules.racks`.
+    gap: the largest extra space between rack balls (m), see `rules.racks`; quantised to
+        1e-7 m (GAP_STEPS) so that the compact record stores it as an integer.
     target: three-cushion points to win (0 = the default of 15); ignored by the other games.
     """
 
@@ -47,6 +51,11 @@ class Setup(BaseModel):
     seed: Annotated[int, Field(strict=True, ge=0, lt=2**63)]
     gap: Annotated[float, Field(strict=True, ge=0.0, le=0.005, allow_inf_nan=False)] = 0.0
     target: Annotated[int, Field(strict=True, ge=0, le=1000)] = 0
+
+    @field_validator("gap")
+    @classmethod
+    def _quantise_gap(cls, v: float) -> float:
+        return quantise(v, GAP_STEPS)
 
 
 @dataclass(frozen=True, slots=True)
