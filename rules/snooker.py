@@ -139,23 +139,10 @@ def _snookers_behind(free: str, on: str, facts: ShotFacts) -> bool:
     )
 
 
-def judge(
-    state: State, shot: Shot, before: dict[str, Point], result: physics.Shot
-) -> tuple[State, Decision]:
-    me, opp = state.turn, other(state.turn)
-    facts = read_shot(result, "cue", before)
-    free = shot.nominate if state.free_ball else None
-    colour = None
-    if state.on == "colour":
-        hit = facts.first_hit
-        colour = shot.nominate or (hit if hit in VALUES else None)
-    on_set = balls_on(state.on, before, colour)
-    legal = on_set | ({free} if free else set())
-    on_value = value(colour) if colour else (value(state.on) if state.on != "colour" else 0)
-
+def _fouls(facts: ShotFacts, legal: frozenset[str], on_words: str) -> tuple[list[Foul], list[int]]:
+    """The contact fouls of a stroke, and the values of the balls they concern."""
     fouls: list[Foul] = []
-    concerned = [on_value]
-    on_words = {"red": "a red", "colour": colour or "a colour"}.get(state.on, state.on)
+    concerned: list[int] = []
     if facts.cue_pocketed:
         fouls.append(foul(FoulCode.CUE_POCKETED, "cue ball pocketed (in-off)"))
     if facts.first_hit is None:
@@ -170,6 +157,25 @@ def judge(
             why = f"the {b} was pocketed but was not on"
             fouls.append(foul(FoulCode.POCKETED_NOT_ON, why, b))
             concerned.append(value(b))
+    return fouls, concerned
+
+
+def judge(
+    state: State, shot: Shot, before: dict[str, Point], result: physics.Shot
+) -> tuple[State, Decision]:
+    me, opp = state.turn, other(state.turn)
+    facts = read_shot(result, "cue", before)
+    free = shot.nominate if state.free_ball else None
+    colour = None
+    if state.on == "colour":
+        hit = facts.first_hit
+        colour = shot.nominate or (hit if hit in VALUES else None)
+    on_set = balls_on(state.on, before, colour)
+    legal = on_set | ({free} if free else set())
+    on_value = value(colour) if colour else (value(state.on) if state.on != "colour" else 0)
+
+    on_words = {"red": "a red", "colour": colour or "a colour"}.get(state.on, state.on)
+    fouls, concerned = _fouls(facts, legal, on_words)
     if free and not fouls and not facts.pocketed and _snookers_behind(free, state.on, facts):
         why = f"the free ball ({free}) left the opponent snookered"
         fouls.append(foul(FoulCode.FREE_BALL_SNOOKER, why, free))
@@ -178,7 +184,7 @@ def judge(
     potted_colours = [b for b in facts.pocketed if b in VALUES]
     notes: list[Note] = []
     if fouls:
-        penalty = min(MAX_PENALTY, max(MIN_PENALTY, *concerned))
+        penalty = min(MAX_PENALTY, max(MIN_PENALTY, on_value, *concerned))
         points = award(opp, penalty)
         back = potted_colours
         scored = 0
