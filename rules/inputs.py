@@ -46,6 +46,7 @@ FULL_TURN = 360 * HEADING_STEPS
 MAX_PLACE = 100.0
 
 Number = Annotated[float, Field(strict=True, allow_inf_nan=False)]
+Name = Annotated[str, Field(strict=True, min_length=1, max_length=16)]
 
 
 def fixed(value: float, steps: int) -> int:
@@ -70,7 +71,7 @@ class Strike(BaseModel):
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    ball: Annotated[str, Field(strict=True, min_length=1, max_length=16)]
+    ball: Name
     speed: Number
     heading: Number
     elevation: Number = 0.0
@@ -116,9 +117,6 @@ def _place(v: float) -> float:
     if abs(v) > MAX_PLACE:
         raise ValueError(f"placement coordinates must be within {MAX_PLACE} m")
     return quantise(v, PLACE_STEPS)
-
-
-Name = Annotated[str, Field(strict=True, min_length=1, max_length=16)]
 
 
 class Shot(BaseModel):

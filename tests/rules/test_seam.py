@@ -16,7 +16,7 @@ from rules.game import Outcome, Setup, check, play, start
 from rules.inputs import Choice, Shot, Strike
 from rules.racks import Game
 from rules.referee import REFEREES, Referee, allowed, referee
-from rules.state import State
+from rules.state import State, conclude
 
 from .script import hit, pot, rail, refused, scripted, shoot
 
@@ -167,3 +167,5 @@ def test_a_state_update_is_validated():
         state.evolve(turn="one")
     with pytest.raises(ValidationError):
         State.model_validate({**state.model_dump(), "ballz": {}})
+    with pytest.raises(ValidationError, match="extra"):  # a referee's misspelt game field
+        conclude(state, balls=state.balls, next_player=1, free_balls=True)
