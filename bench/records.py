@@ -8,7 +8,8 @@ three-cushion games, to 3 points, for the tamper table), then prints:
 1. Size per shot of each record's forms, medians over the games: the compact msgpack (the
    whole record, and its inputs with their digests alone: the issue's goal is at most 12
    bytes per shot), deflated, the base64url share link, and the JSON record.
-2. Tamper detection: K alterations of each kind (rules.tamper) on every record, each replayed;
+2. Tamper detection: up to K distinct alterations of each kind (rules.tamper) on every record
+   (the last shot's heading has one), each replayed;
    how many were refused, and how: by the digests (REPLAY_DIFFERS) or at an input that became
    illegal; "legal" counts the altered records whose inputs all stay legal, which replay to
    the end as a different game when the record's claims are not checked (as before the
@@ -87,10 +88,12 @@ def tamper_table(records: list[GameRecord], per_kind: int, rng: random.Random) -
     tried, by_digest, by_rule, missed, legal = Counter(), Counter(), Counter(), Counter(), Counter()
     for n, record in enumerate(records, 1):
         for kind, alter in ALTERATIONS.items():
+            seen = [record]
             for _ in range(per_kind):
                 altered = alter(record, rng)
-                if altered is None or altered == record:
+                if altered is None or altered in seen:
                     continue
+                seen.append(altered)
                 tried[kind] += 1
                 legal[kind] += all_legal(altered)
                 try:
@@ -114,7 +117,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--racks", type=int, default=20, help="games of each kind (default 20)")
     parser.add_argument("--frames", type=int, default=4, help="snooker frames (default 4)")
-    parser.add_argument("--per-kind", type=int, default=3, help="alterations of each kind")
+    parser.add_argument("--per-kind", type=int, default=4, help="alterations of each kind")
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
     games = {

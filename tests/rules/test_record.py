@@ -154,10 +154,12 @@ def test_every_alteration_of_a_real_record_is_refused(real_records):
     for record in real_records:
         assert replay(record).final.over  # the genuine record replays
         for kind, alter in ALTERATIONS.items():
+            seen = [record]
             for _ in range(2):
                 altered = alter(record, rng)
-                if altered is None or altered == record:
+                if altered is None or altered in seen:
                     continue
+                seen.append(altered)
                 tried[kind] += 1
                 with pytest.raises(RuleError, match=r"^input #\d+: ") as caught:
                     replay(altered)
