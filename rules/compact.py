@@ -50,7 +50,7 @@ from rules.inputs import (
     heading_steps,
 )
 from rules.racks import Game, rack
-from rules.record import GameRecord
+from rules.record import MAX_INPUTS, GameRecord
 from rules.referee import referee
 
 FORMAT = 1
@@ -156,6 +156,8 @@ class _Reader:
         found: list[PlayerInput] = []
         last = BEFORE
         while self.at < len(self.values):
+            if len(found) == MAX_INPUTS:
+                raise ValueError(f"more than {MAX_INPUTS} inputs")
             head = self.take()
             if type(head) is not int:
                 raise ValueError("an input does not start with an integer")
@@ -220,8 +222,11 @@ def unpack(data: bytes) -> GameRecord:
 
 def decode(text: str) -> GameRecord:
     """A record from its share-link text; raises RuleError (MALFORMED) for anything else."""
+    text = text.strip()
+    if len(text) > MAX_INFLATED:
+        raise RuleError(Refusal.MALFORMED, "compact record: too long for a share link")
     try:
-        raw = base64.urlsafe_b64decode(text.strip() + "=" * (-len(text.strip()) % 4))
+        raw = base64.urlsafe_b64decode(text + "=" * (-len(text) % 4))
         inflate = zlib.decompressobj(-15)
         data = inflate.decompress(raw, MAX_INFLATED)
         if inflate.unconsumed_tail or not inflate.eof:

@@ -101,6 +101,8 @@ def test_the_altered_document_is_well_formed():
         _link([1, "1", 0, "1", 0, 0, [], b"", [0, 0], None, b"\0" * 8]),  # a string seed
         _link([1, "1", 0, 1, 0.5, 0, [], b"", [0, 0], None, b"\0" * 8]),  # a float gap
         _link({"inputs": []}),
+        _link([*EMPTY[:6], [-1] * 5001, b"\0\0" * 5001, *EMPTY[8:]]),  # too many inputs
+        "A" * (1 << 19),
         _link([[[[[]]]]] * 3),
         base64.urlsafe_b64encode(zlib.compress(b"\0" * 10_000_000)[2:-4]).decode(),  # a bomb
     ],
