@@ -61,7 +61,7 @@ def wanted(state: State, balls: Mapping[str, Point]) -> tuple[frozenset[str], st
     """The balls the player to shoot may hit first, and how to name them in a foul."""
     mine = state.groups[state.turn]
     objects = [b for b in pool.object_balls(balls) if b != "8"]
-    eight = (frozenset({"8"}), "the 8")
+    eight = (frozenset({"8"} & set(balls)), "the 8")
     if mine is None:
         return (frozenset(objects), "a solid or a stripe") if objects else eight
     own = frozenset(b for b in objects if group_of(b) == mine)

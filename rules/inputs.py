@@ -29,6 +29,7 @@ from pydantic import (
 )
 
 from physics.cue import MAX_ELEVATION, MAX_SPEED, MISCUE_LIMIT
+from physics.scene import BallId
 from rules.codes import Refusal, RuleError
 
 #: Fixed-point steps per unit: heading 1e-4 degree, speed 1 mm/s, tip offsets 1e-3 R,
@@ -46,7 +47,8 @@ FULL_TURN = 360 * HEADING_STEPS
 MAX_PLACE = 100.0
 
 Number = Annotated[float, Field(strict=True, allow_inf_nan=False)]
-Name = Annotated[str, Field(strict=True, min_length=1, max_length=16)]
+#: A ball or pocket name: what the engine takes as a ball id, and nothing else.
+Name = Annotated[BallId, Field(strict=True)]
 
 
 def fixed(value: float, steps: int) -> int:

@@ -51,7 +51,8 @@ def lowest(balls: Mapping[str, Point]) -> str:
 
 
 def targets(state: State, balls: Mapping[str, Point]) -> frozenset[str]:
-    return frozenset({lowest(balls)})
+    """The lowest-numbered ball (none once the table is empty, after the game)."""
+    return frozenset({lowest(balls)}) if pool.object_balls(balls) else frozenset()
 
 
 def options(state: State) -> ShotOptions:

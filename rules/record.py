@@ -159,7 +159,8 @@ def replay(record: GameRecord, simulate: Simulate = physics.simulate) -> Replay:
 
     Raises RuleError naming the first input (#1 is the first) that is illegal (its refusal's
     code) or whose replayed state differs from the record (REPLAY_DIFFERS), and refuses at
-    once a record of another engine version (ENGINE_VERSION).
+    once a record of another engine version (ENGINE_VERSION). An engine error names its input
+    too (the engine's own exception type).
     """
     if record.engine != ENGINE_VERSION:
         raise RuleError(
@@ -174,6 +175,8 @@ def replay(record: GameRecord, simulate: Simulate = physics.simulate) -> Replay:
             outcome = play(state, action, simulate)
         except RuleError as exc:
             raise RuleError(exc.code, f"input #{n}: {exc.reason}") from None
+        except (physics.SceneError, physics.SimulationError) as exc:
+            raise type(exc)(f"input #{n}: {exc}") from exc
         state = outcome.state
         chain = link(chain, state, action)
         if mark(chain) != digest:

@@ -50,7 +50,7 @@ def cue_ball(state: State) -> str:
 def targets(state: State, balls: Mapping[str, Point]) -> frozenset[str]:
     """The red on the break, either object ball afterwards."""
     if state.shots == 0:
-        return frozenset({"red"})
+        return frozenset({"red"} & set(balls))
     return frozenset(balls) - {cue_ball(state)}
 
 

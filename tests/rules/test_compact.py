@@ -8,15 +8,38 @@ import zlib
 
 import msgpack
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from rules.codes import Refusal
 from rules.compact import decode, encode, pack, unpack
 from rules.game import Setup
-from rules.inputs import Choice, Shot, Strike
+from rules.inputs import OPTIONS, Choice, Shot, Strike
+from rules.racks import Game
 from rules.record import Final, GameRecord, replay
 from rules.selfplay import selfplay
 
 from .script import refused
+
+names = st.sampled_from(["cue", "yellow", "pink", "red7", "top_left", "stranger", "x"])
+strikes = st.builds(
+    Strike,
+    ball=names,
+    speed=st.floats(0.001, 12.0),
+    heading=st.floats(-720.0, 720.0),
+    elevation=st.sampled_from([0.0, 0.01, 30.0, 89.0]),
+    a=st.sampled_from([0.0, 0.3, -0.001]),
+    b=st.sampled_from([0.0, -0.1, 0.4]),
+)
+shots = st.builds(
+    Shot,
+    strike=strikes,
+    place=st.none() | st.tuples(st.floats(-1.0, 4.0), st.floats(-1.0, 4.0)),
+    push_out=st.booleans(),
+    call=st.none() | names,
+    nominate=st.none() | names,
+)
+inputs = st.lists(shots | st.builds(Choice, option=st.sampled_from(OPTIONS)), max_size=30)
 
 #: Bytes a shot may take in the msgpack form, its digest included (the issue's goal).
 SHOT_BYTES = 12
@@ -59,6 +82,18 @@ def test_every_input_field_survives():
     )
     assert unpack(pack(record)) == record
     assert decode(encode(record)) == record
+
+
+@given(inputs=inputs, game=st.sampled_from(list(Game)))
+def test_any_inputs_survive(inputs, game):
+    record = GameRecord(
+        engine="1",
+        setup=Setup(game=game, seed=5),
+        inputs=inputs,
+        digests=[k % 65536 for k in range(len(inputs))],
+        final=Final(scores=(0, 3), digest="0123456789abcdef"),
+    )
+    assert unpack(pack(record)) == record
 
 
 def per_shot(record: GameRecord) -> float:

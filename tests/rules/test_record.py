@@ -9,6 +9,7 @@ from collections import Counter
 
 import pytest
 
+import physics
 from physics import ENGINE_VERSION
 from rules.codes import Refusal, RuleError
 from rules.game import Setup, play, start
@@ -167,3 +168,12 @@ def test_every_alteration_of_a_real_record_is_refused(real_records):
     # Every kind was tried, and most alterations stay legal: only the digests catch them.
     assert set(tried) == set(ALTERATIONS)
     assert refusals[Refusal.REPLAY_DIFFERS] > sum(tried.values()) / 2
+
+
+def test_an_engine_failure_names_its_input():
+    def broken(scene):
+        raise physics.SimulationError("event limit")
+
+    record = recorded(Setup(game="nineball", seed=4), [BREAK], LEGAL_BREAK)
+    with pytest.raises(physics.SimulationError, match=r"^input #1: event limit$"):
+        replay(record, broken)

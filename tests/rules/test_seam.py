@@ -152,6 +152,13 @@ def test_allowed_says_what_each_game_allows_now():
     assert "pink" in free.options.nominate and "red1" not in free.options.nominate
 
 
+def test_allowed_answers_for_a_finished_game_too():
+    for game in Game:
+        state = start(Setup(game=game, seed=1))
+        empty = state.evolve(balls={}, over=True, winner=0)
+        assert allowed(empty).targets == set()  # nothing to hit, and no error
+
+
 def test_a_push_out_is_offered_then_the_opponent_chooses():
     state, _ = shoot(start(Setup(game="nineball", seed=1)), hit("cue", "1"), pot("2"))
     assert allowed(state).options.push_out
