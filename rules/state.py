@@ -7,9 +7,9 @@ that the others never see them. States are immutable; a referee returns a new on
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, Field
 
 from rules.codes import FoulCode, NoteCode, RuleError
 from rules.inputs import Option
@@ -60,9 +60,9 @@ class State(BaseModel):
     target (three-cushion: points to win).
     """
 
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", strict=True)
 
-    game: Game
+    game: Annotated[Game, Field(strict=False)]  # the name is the game
     balls: dict[str, Point]
     turn: int = 0
     scores: tuple[int, int] = (0, 0)
@@ -81,8 +81,9 @@ class State(BaseModel):
     target: int = 0
 
     def evolve(self, **changes: Any) -> State:
-        """This state with `changes`, validated: a misspelt field or a wrong type is an error
-        (pydantic's `model_copy(update=...)` would store either silently)."""
+        """This state with `changes`, validated (strictly: no "1" for 1, no list for a pair):
+        a misspelt field or a wrong type is an error, which pydantic's
+        `model_copy(update=...)` would store silently."""
         return State.model_validate({**dict(self), **changes})
 
 

@@ -171,7 +171,9 @@ def test_a_state_update_is_validated():
     with pytest.raises(ValidationError, match="extra"):
         state.evolve(foul_streaks=(1, 0))
     with pytest.raises(ValidationError):
-        state.evolve(turn="one")
+        state.evolve(turn="1")
+    with pytest.raises(ValidationError):
+        state.evolve(scores=[1, 0])
     with pytest.raises(ValidationError):
         State.model_validate({**state.model_dump(), "ballz": {}})
     with pytest.raises(ValidationError, match="extra"):  # a referee's misspelt game field
