@@ -38,14 +38,28 @@ MIN_APPROACH = 1e-9
 #: Approach speeds below this (m/s) are a resting contact: resolved without rebound, which
 #: stops the endless ever-smaller bounces of a ball pressed against another ball or a cushion.
 REST_SPEED = 1e-4
-#: The most events a shot may have before the engine gives up: far above any real shot.
-MAX_EVENTS = 20_000
+#: The budget of one shot, which ends a runaway shot (a scene built to burn a server core) with
+#: `BudgetExceeded` at a bounded cost: at most MAX_EVENTS events, and at most MAX_WORK units of
+#: work, since the work of an event grows with the balls on the table and a cushion impact can
+#: cost a thousand integration steps. A contact test (a ball against another ball or a jaw or
+#: pocket circle: the chord test and, where that cannot cull, a quartic) is one unit, a step
+#: of Mathavan's cushion integration CUSHION_STEP_WORK units (their costs are in that ratio).
+#: Real shots stay far inside both: a full-power break makes 80-250 events and 3,000-12,000
+#: units. At the budget a shot has cost about 120 ms on one core of the development machine
+#: (bench/adversarial.py).
+MAX_EVENTS = 2_000
+MAX_WORK = 40_000
+CUSHION_STEP_WORK = 2
 
 _MOVING = (SLIDING, ROLLING)
 
 
 class SimulationError(RuntimeError):
     """The engine could not finish a shot (a bug, or a scene far outside play)."""
+
+
+class BudgetExceeded(SimulationError):
+    """A shot went past the engine's budget (MAX_EVENTS, MAX_WORK) and was abandoned."""
 
 
 class _Ball:
@@ -124,6 +138,12 @@ class Simulation:
         #: looked at, and how many of those were not culled and needed a quartic solved.
         self.contacts_checked = 0
         self.quartics_solved = 0
+        #: Integration steps the cushion model took, in a list it adds to (see physics.cushion).
+        self.cushion_steps = [0]
+
+    def work(self) -> int:
+        """The work done so far, in the units of MAX_WORK."""
+        return self.contacts_checked + CUSHION_STEP_WORK * self.cushion_steps[0]
 
     # -- state changes -------------------------------------------------------------------
 
@@ -300,7 +320,7 @@ class Simulation:
         b.advance(self.now)
         v = (b.vx, b.vy)
         if self.spin:
-            v_new, w_new = self.cushion(v, b.w, normal, self.p, self.sin_theta)
+            v_new, w_new = self.cushion(v, b.w, normal, self.p, self.sin_theta, self.cushion_steps)
         else:
             vn = v[0] * normal[0] + v[1] * normal[1]
             k = (1.0 + self.p.e_c) * vn
@@ -455,8 +475,11 @@ class Simulation:
             if balls[i].version != vi or (j >= 0 and balls[j].version != vj):
                 continue
             count += 1
-            if count > MAX_EVENTS:
-                raise SimulationError(f"more than {MAX_EVENTS} events; giving up")
+            if count > MAX_EVENTS or self.work() > MAX_WORK:
+                raise BudgetExceeded(
+                    f"the shot went past the engine's budget ({MAX_EVENTS} events, "
+                    f"{MAX_WORK} units of work) and was abandoned"
+                )
             self.now = t
             if kind == "ball":
                 self._collide_balls(i, j)

@@ -187,7 +187,7 @@ def test_ball_rattles_in_the_jaws(offset, drops):
     shot = run(
         {"cue": start},
         initial={"cue": {"v": [v, v], "w": [-v / R, v / R, 0.0]}},
-        table={"w": W, "l": L, "corner_depth": 0.1, "corner_radius": 0.05},
+        table={"w": W, "l": L, "corner_depth": 0.08, "corner_radius": 0.05},
     )
     jaws = [e.cushion for e in events_of(shot, "ball_jaw")]
     assert len(jaws) >= 3
