@@ -334,6 +334,14 @@ class Simulation:
             (ax, ay), state = self._accel(v_new, w_new)
             if state == SLIDING and ax * normal[0] + ay * normal[1] < 0.0:
                 v_new, w_new = self._finish_slide(v_new, w_new)
+                # The roll a slide ends in may still run into the cushion: the cushion takes
+                # that too, as a resting contact takes no rebound. Left to a real impact, a dead
+                # cushion (e_c = 0) would hand back a slide pressing in again, and each round
+                # would sink REST_DEPTH deeper.
+                vn_out = v_new[0] * normal[0] + v_new[1] * normal[1]
+                if vn_out < 0.0:
+                    v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
+                    w_new = motion.rolling_spin(v_new, w_new[2], self.p.R)
         self._set_motion(b, v_new, w_new)
         self._emit(kind, (b.name,), **names)
         self._predict(i)
@@ -346,7 +354,10 @@ class Simulation:
         nil): no rebound, the pair merging its normal velocities as an inelastic pair (a
         rolling ball weighs 7/5 m there, as the cloth keeps it rolling); a ball that sliding
         friction presses into the other finishes its slide at once (so the push becomes one
-        real collision); and where rolling resistance alone presses them together (their
+        real collision), and so does a slide beside a roll that slows into it (else each new
+        contact would come REST_DEPTH deeper than the last); a collision that would not part
+        them (dead balls, e_b near 0) is merged rather than played; and where rolling
+        resistance alone presses them together (their
         paths converge by mm/s^2), the ball behind gives up just enough of its approach to
         stay clear until either ball stops. Every step only dissipates energy.
         """
@@ -357,11 +368,25 @@ class Simulation:
             va, wa = self._finish_slide(va, wa)
         if sb == SLIDING and ab[0] * n[0] + ab[1] * n[1] < 0.0:
             vb, wb = self._finish_slide(vb, wb)
-        if (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1] >= REST_SPEED:
-            return va, wa, vb, wb  # now truly approaching: a real collision follows at once
+        approach = (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1]
+        if approach >= REST_SPEED and p.e_b * approach >= REST_SPEED:
+            # Now truly approaching: a real collision follows at once and parts them. (One that
+            # would not part them, dead balls, is merged below instead: it would leave them
+            # pressing, and each round would sink REST_DEPTH deeper.)
+            return va, wa, vb, wb
         va, wa, vb, wb = self._merge(va, wa, vb, wb, n)
         (aa, sa), (ab, sb) = self._accel(va, wa), self._accel(vb, wb)
         pressing = (aa[0] - ab[0]) * n[0] + (aa[1] - ab[1]) * n[1]
+        if pressing > 0.0 and SLIDING in (sa, sb):
+            # Still pressed together (a slide sideways beside a roll slowing down): the slides
+            # finish now too, or each new contact would sink REST_DEPTH deeper until they end.
+            if sa == SLIDING:
+                va, wa = self._finish_slide(va, wa)
+            if sb == SLIDING:
+                vb, wb = self._finish_slide(vb, wb)
+            va, wa, vb, wb = self._merge(va, wa, vb, wb, n)
+            (aa, sa), (ab, sb) = self._accel(va, wa), self._accel(vb, wb)
+            pressing = (aa[0] - ab[0]) * n[0] + (aa[1] - ab[1]) * n[1]
         if pressing <= 0.0 or SLIDING in (sa, sb):
             return va, wa, vb, wb
         until = min(motion.transition_time(sa, va, wa, p), motion.transition_time(sb, vb, wb, p))

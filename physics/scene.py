@@ -23,6 +23,7 @@ from pydantic import (
     StringConstraints,
     Tag,
     ValidationError,
+    model_validator,
 )
 
 from physics.cue import strike as cue_strike
@@ -68,12 +69,27 @@ class Motion(_Strict):
 
 
 class Strike(_Strict):
+    """A cue strike (physics.cue.strike bounds speed, elevation and tip offset). The heading is
+    held to one turn either way: beyond that its sine and cosine lose digits for nothing."""
+
     ball: BallId
     speed: Finite
-    heading: Finite
+    heading: _within(-360.0, 360.0)
     elevation: Finite = 0.0
     a: Finite = 0.0
     b: Finite = 0.0
+
+
+class _Overrides(_Strict):
+    """Fields left out take the preset's value; null is not a value."""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_nulls(cls, data: Any) -> Any:
+        if isinstance(data, dict) and None in data.values():
+            nulls = ", ".join(sorted(str(k) for k, v in data.items() if v is None))
+            raise ValueError(f"null is not a value ({nulls})")
+        return data
 
 
 class Models(_Strict):
@@ -82,7 +98,7 @@ class Models(_Strict):
     spin: Annotated[bool, Strict()] = True
 
 
-class TableIn(_Strict):
+class TableIn(_Overrides):
     """Overrides of a preset table's numbers (physics.tables.TableSpec says what each is).
 
     Every length is in metres and bounded so that no table is degenerate or dear to simulate:
@@ -113,7 +129,7 @@ class TableIn(_Strict):
     jaw_radius: _within(0.0, 0.1, gt=0.0) | None = None
 
 
-class ParamsIn(_Strict):
+class ParamsIn(_Overrides):
     """Overrides of the preset's balls and cloth (physics.params.Params says what each is).
 
     Each bound holds every real game's value with room, and keeps the worst shot cheap:
