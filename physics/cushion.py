@@ -21,8 +21,8 @@ Per unit normal impulse p at I, with friction forces f_I (cushion, |f_I| <= f_c)
     dv_x = f_Ix + f_Cx            dW_x = 5/2 (f_Iy + f_Cy)        dW_z = -5/2 c f_Ix
     dv_y = -c - s f_Iy + f_Cy     dW_y = 5/2 (s f_Ix - f_Cx)
 
-which are Mathavan's impulse equations (the seed's) as corrected by ERRATA.md (6: phi' from
-the cloth slip, atan2 everywhere). From them each slip moves linearly with the forces; the
+which are Mathavan's impulse equations with docs/physics.md's correction 6 (phi' from the
+cloth slip, atan2 everywhere). From them each slip moves linearly with the forces; the
 Mathavan solver uses that to decide when a contact sticks (the force needed to hold its slip at
 zero fits inside its friction cone) and which way a slip starting from zero will grow, so the
 directions never chatter.
@@ -205,12 +205,12 @@ def mathavan(
     """Mathavan 2010: integrate the impact over the normal impulse at I (see the module doc).
 
     The impact ends when the work of the normal force has given back e_c^2 of what compression
-    took (ERRATA 7: with E the energy absorbed so far, E rises while v_y > 0 and restitution ends
+    took (docs/physics.md, correction 7: with E the energy absorbed so far, E rises while v_y > 0 and restitution ends
     when E <= (1 - e_c^2) E_max; E_max is the value at v_y = 0). Compression and restitution are
     one smooth integration, so only E_max and the end need locating: both are found on the
     cubic Hermite interpolant of the step they fall in, as accurate as the step itself.
-    The integrator is the classical 4th-order Runge-Kutta (the seed's explicit Euler is 1st
-    order) with p.mathavan_steps steps over the frictionless compression impulse, each step
+    The integrator is the classical 4th-order Runge-Kutta (explicit Euler, where the model
+    started, is 1st order) with p.mathavan_steps steps over the frictionless compression impulse, each step
     shortened where the slips demand it: to land where a slip closing on zero reaches it, to
     turn a slip's direction by at most _TURN, and to keep Coulomb friction's stiffness near a
     small slip within Runge-Kutta's stable range. A slip closing on zero within _SNAP_SLIP of
