@@ -56,7 +56,13 @@ def scenes(draw):
         "cushion": draw(st.sampled_from(["mathavan", "han"])),
         "spin": draw(st.booleans()),
     }
-    return {"table": "nineball", "balls": balls, "initial": initial, "models": models}
+    # Now and then dead balls or cushions, where resting contacts are most often pressed.
+    params = {
+        "e_b": draw(st.sampled_from([POOL.e_b, POOL.e_b, 0.0])),
+        "e_c": draw(st.sampled_from([POOL.e_c, POOL.e_c, 0.0])),
+    }
+    scene = {"table": "nineball", "balls": balls, "initial": initial, "models": models}
+    return scene | {"params": params}
 
 
 @settings(max_examples=1000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
