@@ -204,16 +204,16 @@ def mathavan(
 ) -> tuple[Vec2, Vec3]:
     """Mathavan 2010: integrate the impact over the normal impulse at I (see the module doc).
 
-    The impact ends when the work of the normal force has given back e_c^2 of what compression
-    took (docs/physics.md, correction 7: with E the energy absorbed so far, E rises while v_y > 0 and restitution ends
-    when E <= (1 - e_c^2) E_max; E_max is the value at v_y = 0). Compression and restitution are
-    one smooth integration, so only E_max and the end need locating: both are found on the
-    cubic Hermite interpolant of the step they fall in, as accurate as the step itself.
-    The integrator is the classical 4th-order Runge-Kutta (explicit Euler, where the model
-    started, is 1st order) with p.mathavan_steps steps over the frictionless compression impulse, each step
-    shortened where the slips demand it: to land where a slip closing on zero reaches it, to
-    turn a slip's direction by at most _TURN, and to keep Coulomb friction's stiffness near a
-    small slip within Runge-Kutta's stable range. A slip closing on zero within _SNAP_SLIP of
+    The impact ends when the work of the normal force has given back e_c^2 of what compression took
+    (docs/physics.md, correction 7: with E the energy absorbed so far, E rises while v_y > 0 and
+    restitution ends when E <= (1 - e_c^2) E_max; E_max is the value at v_y = 0). Compression and
+    restitution are one smooth integration, so only E_max and the end need locating: both are found
+    on the cubic Hermite interpolant of the step they fall in, as accurate as the step itself.
+    The integrator is the classical 4th-order Runge-Kutta (explicit Euler, where the model started,
+    is 1st order) with p.mathavan_steps steps over the frictionless compression impulse, each step
+    shortened where the slips demand it: to land where a slip closing on zero reaches it, to turn a
+    slip's direction by at most _TURN, and to keep Coulomb friction's stiffness near a small slip
+    within Runge-Kutta's stable range. A slip closing on zero within _SNAP_SLIP of
     the speed scale is set exactly to zero (a correction impulse of that size), so that the
     contact sticks or turns without chatter. A ball not moving into the cushion is returned
     unchanged; one that friction wedges into it (the normal velocity stops falling during

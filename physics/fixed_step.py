@@ -78,7 +78,8 @@ class _Run:
     # -- forces --------------------------------------------------------------------------
 
     def _forces(self, b: _Ball) -> None:
-        """One semi-implicit Euler update of b's velocity and spin (Han 2005, docs/physics.md corrections 1-3).
+        """One semi-implicit Euler update of b's velocity and spin (Han 2005 with
+        docs/physics.md's corrections 1-3).
 
         A slip that friction would cancel within the step ends the slide exactly there
         (v loses 2/7 of the slip, the ball rolls); a roll or a spin about the vertical that

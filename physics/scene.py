@@ -98,6 +98,10 @@ class Models(_Strict):
     spin: Annotated[bool, Strict()] = True
 
 
+#: The preset tables by name.
+PresetName = Literal[tuple(PRESETS)]  # type: ignore[valid-type]
+
+
 class TableIn(_Overrides):
     """Overrides of a preset table's numbers (physics.tables.TableSpec says what each is).
 
@@ -167,8 +171,6 @@ class ParamsIn(_Overrides):
     mathavan_steps: Annotated[int, Strict(), Field(ge=1, le=32)] | None = None
 
 
-#: The preset tables by name.
-PresetName = Literal[tuple(PRESETS)]  # type: ignore[valid-type]
 #: A table is a preset's name or an object of overrides; the tags only route the validation
 #: (and are left out of error messages).
 _TAGS = ("by_name", "by_fields")
