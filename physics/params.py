@@ -8,8 +8,7 @@ and where it departs from the starting equations (its "Corrections").
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
-from typing import Any
+from dataclasses import dataclass
 
 
 @dataclass(frozen=True, slots=True)
@@ -47,14 +46,6 @@ class Params:
     throw_c: float = 1.088
     m_cue: float = 0.567
     mathavan_steps: int = 4
-
-    def with_overrides(self, overrides: dict[str, Any]) -> Params:
-        """A copy with some fields replaced; unknown names are an error."""
-        known = {f.name for f in fields(self)}
-        unknown = sorted(set(overrides) - known)
-        if unknown:
-            raise ValueError(f"unknown params: {', '.join(unknown)}")
-        return replace(self, **overrides)
 
 
 #: Pool balls (2 1/4 in, 6 oz) on ordinary worsted cloth: the common values for pool.

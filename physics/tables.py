@@ -14,8 +14,7 @@ published defaults were used as a cross-check for the pool values.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
-from typing import Any
+from dataclasses import dataclass
 
 from physics.params import CAROM, POOL, SNOOKER, Params
 
@@ -77,13 +76,6 @@ class TableSpec:
     side_depth: float = 0.00437
     side_radius: float = 0.0645
     jaw_radius: float = 0.02095
-
-    def with_overrides(self, overrides: dict[str, Any]) -> TableSpec:
-        known = set(self.__dataclass_fields__) - {"name"}
-        unknown = sorted(set(overrides) - known)
-        if unknown:
-            raise ValueError(f"unknown table fields: {', '.join(unknown)}")
-        return replace(self, name=overrides.get("name", "custom"), **overrides)
 
     def geometry(self) -> Geometry:
         return build_geometry(self)
