@@ -60,11 +60,8 @@ def valid_scene(rng: random.Random) -> dict[str, Any]:
     params = {}
     for name in rng.sample(sorted(ParamsIn.model_fields), rng.randint(0, 6)):
         low, high = bounds(ParamsIn, name)
-        params[name] = (
-            round(near_bound(rng, low, high))
-            if name == "mathavan_steps"
-            else (near_bound(rng, low, high))
-        )
+        value = near_bound(rng, low, high)
+        params[name] = round(value) if name == "mathavan_steps" else value
     if params:
         scene["params"] = params
     if rng.random() < 0.3:
@@ -300,6 +297,14 @@ def check(scene: dict[str, Any], shot) -> str | None:
     return None
 
 
+def family(scene: dict[str, Any]) -> str:
+    """A valid scene's row in the breakdown: how many balls, and how many set moving."""
+    n = len(scene["balls"])
+    moving = len(scene["initial"]) + ("strike" in scene)
+    size = next(f"{k:>2} balls or fewer" for k in (2, 5, 16, 32) if n <= k)
+    return f"  {size}, {'all' if moving == n and n > 2 else 'some'} moving"
+
+
 def corpus(seed: int, n_malformed: int, n_valid: int):
     """(kind, document bytes, scene or None) in a fixed order for the seed."""
     rng = random.Random(seed)
@@ -330,6 +335,8 @@ def main() -> int:
         outcome, seconds, shot = run_one(document)
         outcomes[kind][outcome.split(":")[0]] += 1
         times[kind].append(1e3 * seconds)
+        if scene is not None:
+            times[family(scene)].append(1e3 * seconds)
         if seconds > worst[0]:
             worst = (seconds, document)
         expected = {"malformed": ("refused",), "valid": ("shot", "budget")}[kind]
@@ -351,6 +358,11 @@ def main() -> int:
             print(f"{kind:<10} {outcome:<16} {count:>6}")
         p50, p99 = statistics.median(ms), percentile(ms, 0.99)
         print(f"{kind:<10} {'(all)':<16} {len(ms):>6} {p50:>8.2f} {p99:>8.2f} {ms[-1]:>8.1f}")
+    print("valid, by family:")
+    for name in sorted(k for k in times if k.startswith("  ")):
+        ms = sorted(times[name])
+        p50, p99 = statistics.median(ms), percentile(ms, 0.99)
+        print(f"{name:<27} {len(ms):>6} {p50:>8.2f} {p99:>8.2f} {ms[-1]:>8.1f}")
     print(f"\nslowest document ({1e3 * worst[0]:.1f} ms): {worst[1][:160]!r}...")
     for line in problems[:20]:
         print(line)
