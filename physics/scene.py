@@ -152,7 +152,7 @@ class ParamsIn(_Overrides):
     - m_cue in [0.3, 1] kg: cues weigh 0.45-0.7 kg; with a heavier cue the ball would leave
       faster than twice the cue's speed bound allows for.
     - mathavan_steps in [1, 32] (an integer): 4 is the default and already within 1e-4 of the
-      converged rebound; each step costs about 10 microseconds per cushion impact.
+      converged rebound; each step of an impact costs a few microseconds.
     """
 
     R: _within(0.02, 0.04) | None = None

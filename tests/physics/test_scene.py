@@ -6,6 +6,8 @@ import subprocess
 import sys
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from physics import (
     BudgetExceeded,
@@ -185,3 +187,54 @@ def test_cli_refuses_hostile_input_in_one_line(document, message):
     assert message in err and err.count("\n") == 1 and "Traceback" not in err
     with pytest.raises(SceneError if message != "budget" else SimulationError):
         simulate_scene(scene_from_json(document))
+
+
+SCALARS = (
+    st.none()
+    | st.booleans()
+    | st.integers(-(10**30), 10**30)
+    | st.floats(allow_nan=True, allow_infinity=True)
+    | st.text(max_size=8)
+)
+JSON = SCALARS | st.recursive(
+    SCALARS,
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner),
+    max_leaves=12,
+)
+PLACES = st.sampled_from(
+    [
+        ("table",),
+        ("table", "w"),
+        ("table", "corner_radius"),
+        ("table", "pockets"),
+        ("params",),
+        ("params", "R"),
+        ("params", "mathavan_steps"),
+        ("balls",),
+        ("balls", "cue"),
+        ("initial",),
+        ("initial", "cue"),
+        ("strike",),
+        ("strike", "speed"),
+        ("strike", "ball"),
+        ("models",),
+        ("models", "spin"),
+    ]
+)
+
+
+@settings(max_examples=400, deadline=None)
+@given(place=PLACES, value=JSON)
+def test_any_value_anywhere_is_a_scene_or_a_scene_error(place, value):
+    """Whatever JSON value lands wherever in a scene, the answer is a scene or a SceneError."""
+    scene = json.loads(json.dumps(with_(strike={"ball": "cue", "speed": 1.0, "heading": 0.0})))
+    node = scene
+    for key in place[:-1]:
+        if not isinstance(node.get(key), dict):
+            node[key] = {}
+        node = node[key]
+    node[place[-1]] = value
+    try:
+        parse_scene(scene)
+    except SceneError as exc:
+        assert "\n" not in str(exc)
