@@ -35,11 +35,11 @@ BallId = Annotated[str, StringConstraints(pattern=r"^[A-Za-z0-9_-]{1,16}$")]
 Finite = Annotated[float, Strict(), Field(allow_inf_nan=False)]
 
 
-def _within(ge: float, le: float, gt: float | None = None) -> Any:
-    """A finite number in [ge, le] (or (gt, le] with gt)."""
-    if gt is not None:
-        return Annotated[float, Strict(), Field(allow_inf_nan=False, gt=gt, le=le)]
-    return Annotated[float, Strict(), Field(allow_inf_nan=False, ge=ge, le=le)]
+def _within(low: float, high: float, *, above: bool = False) -> Any:
+    """A finite number in [low, high], or in (low, high] when it must be above low."""
+    if above:
+        return Annotated[float, Strict(), Field(allow_inf_nan=False, gt=low, le=high)]
+    return Annotated[float, Strict(), Field(allow_inf_nan=False, ge=low, le=high)]
 
 
 #: The fastest ball a scene may set directly in `initial` (m/s): harder than any break shot.
@@ -87,7 +87,7 @@ class _Overrides(_Strict):
     @classmethod
     def _no_nulls(cls, data: Any) -> Any:
         if isinstance(data, dict) and None in data.values():
-            nulls = ", ".join(sorted(str(k) for k, v in data.items() if v is None))
+            nulls = ", ".join(sorted(_plain(k) for k, v in data.items() if v is None))
             raise ValueError(f"null is not a value ({nulls})")
         return data
 
@@ -123,14 +123,14 @@ class TableIn(_Overrides):
     w: _within(0.5, 200.0) | None = None
     l: _within(0.5, 200.0) | None = None
     pockets: Annotated[bool, Strict()] | None = None
-    cushion_height: _within(0.0, 0.1, gt=0.0) | None = None
-    corner_mouth: _within(0.0, 0.3, gt=0.0) | None = None
+    cushion_height: _within(0.0, 0.1, above=True) | None = None
+    corner_mouth: _within(0.0, 0.3, above=True) | None = None
     corner_depth: _within(0.0, 0.2) | None = None
-    corner_radius: _within(0.0, 0.2, gt=0.0) | None = None
-    side_mouth: _within(0.0, 0.3, gt=0.0) | None = None
+    corner_radius: _within(0.0, 0.2, above=True) | None = None
+    side_mouth: _within(0.0, 0.3, above=True) | None = None
     side_depth: _within(0.0, 0.2) | None = None
-    side_radius: _within(0.0, 0.2, gt=0.0) | None = None
-    jaw_radius: _within(0.0, 0.1, gt=0.0) | None = None
+    side_radius: _within(0.0, 0.2, above=True) | None = None
+    jaw_radius: _within(0.0, 0.1, above=True) | None = None
 
 
 class ParamsIn(_Overrides):
@@ -232,10 +232,16 @@ def _check_positions(scene: Scene) -> None:
                 raise SceneError(f"balls {a} and {b} overlap")
 
 
+def _plain(text: object, limit: int = 40) -> str:
+    """Text from a document made safe for a one-line message: escaped, and cut at `limit`."""
+    out = str(text).encode("unicode_escape").decode("ascii")
+    return out if len(out) <= limit else out[: limit - 3] + "..."
+
+
 def _one_line(exc: ValidationError) -> str:
     first = exc.errors(include_input=False)[0]
-    where = ".".join(str(x) for x in first["loc"] if x not in _TAGS) or "scene"
-    return f"{where}: {first['msg']}"
+    where = ".".join(_plain(x) for x in first["loc"] if x not in _TAGS) or "scene"
+    return f"{where}: {_plain(first['msg'], 200)}"
 
 
 def scene_from_json(document: bytes | str) -> dict[str, Any]:

@@ -67,6 +67,7 @@ def with_(**changes):
         (with_(params={"mathavan_steps": 100_000}), "params.mathavan_steps"),
         (with_(params={"u_r": 1e-9}), "params.u_r"),
         (with_(table={"w": 1e308}), "table.w"),
+        (with_(params={"u\n_r": 1.0}), "Extra inputs"),  # printed escaped, on one line
         (with_(params={"u_r": None}), "params: Value error, null is not a value \\(u_r\\)"),
         (with_(strike={"ball": "cue", "speed": 2.0, "heading": 1e6}), "strike.heading"),
         # Geometry that would let a ball off the table, or leave no table.
