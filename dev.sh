@@ -14,7 +14,8 @@ setup_python() {
     local stamp="$VENV/.installed-$(sha1sum pyproject.toml | cut -c1-12)"
     if [ ! -f "$stamp" ]; then
         "$VENV/bin/pip" install --quiet --upgrade pip
-        "$VENV/bin/pip" install --quiet -e ".[test]"
+        # The diagrams extra too: the tests draw the figures.
+        "$VENV/bin/pip" install --quiet -e ".[test,diagrams]"
         rm -f "$VENV"/.installed-*
         touch "$stamp"
     fi

@@ -9,21 +9,23 @@ from __future__ import annotations
 
 from typing import Any
 
-from physics.engine import Simulation, SimulationError
-from physics.scene import Scene, SceneError, parse_scene
+from physics.engine import BudgetExceeded, Simulation, SimulationError
+from physics.scene import Scene, SceneError, parse_scene, scene_from_json
 from physics.trajectory import Shot
 
 #: Bumped whenever a change to the engine changes the outcome of any shot. A game record or a
 #: leaderboard claim names the version it was played with; another version cannot replay it.
-ENGINE_VERSION = "1"
+ENGINE_VERSION = "2"
 
 __all__ = [
     "ENGINE_VERSION",
+    "BudgetExceeded",
     "Scene",
     "SceneError",
     "Shot",
     "SimulationError",
     "parse_scene",
+    "scene_from_json",
     "simulate",
     "simulate_scene",
 ]

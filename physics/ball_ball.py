@@ -1,8 +1,8 @@
 """Ball-ball collision models: an instantaneous impulse at the contact point.
 
 `alciatore` adds the friction between the balls that makes an object ball "throw" off the
-line of centres (Alciatore's technical proofs, with ERRATA.md items 4 and 5): the normal
-impulse is m (1 + e) / 2 v_n; the friction impulse opposes the full contact-point slip
+line of centres (Alciatore's technical proofs, with docs/physics.md's corrections 4 and 5):
+the normal impulse is m (1 + e) / 2 v_n; the friction impulse opposes the full contact-point slip
 (vertical part included, which is what draw and follow put there) with magnitude
 min(mu |J_n|, m |v_t| / 7), mu = a + b exp(-c |v_t|), the 1/7 being where the slip of two equal
 solid spheres would stop. Both balls receive the same angular impulse. `frictionless` keeps

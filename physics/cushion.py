@@ -21,8 +21,8 @@ Per unit normal impulse p at I, with friction forces f_I (cushion, |f_I| <= f_c)
     dv_x = f_Ix + f_Cx            dW_x = 5/2 (f_Iy + f_Cy)        dW_z = -5/2 c f_Ix
     dv_y = -c - s f_Iy + f_Cy     dW_y = 5/2 (s f_Ix - f_Cx)
 
-which are Mathavan's impulse equations (the seed's) as corrected by ERRATA.md (6: phi' from
-the cloth slip, atan2 everywhere). From them each slip moves linearly with the forces; the
+which are Mathavan's impulse equations with docs/physics.md's correction 6 (phi' from the
+cloth slip, atan2 everywhere). From them each slip moves linearly with the forces; the
 Mathavan solver uses that to decide when a contact sticks (the force needed to hold its slip at
 zero fits inside its friction cone) and which way a slip starting from zero will grow, so the
 directions never chatter.
@@ -37,7 +37,9 @@ from physics.params import Params
 
 Vec2 = tuple[float, float]
 Vec3 = tuple[float, float, float]
-CushionModel = Callable[[Vec2, Vec3, Vec2, Params, float], tuple[Vec2, Vec3]]
+#: (v, w, normal, params, sin_theta[, work]) -> (v, w). `work`, when given, is a one-element
+#: list to which the model adds the integration steps it took (the engine's budget meters them).
+CushionModel = Callable[..., tuple[Vec2, Vec3]]
 
 #: A slip below this fraction of the ball's speed scale counts as zero (a stuck contact). The
 #: velocity error this allows is of the same relative size, micrometres over a table length.
@@ -90,7 +92,9 @@ def _to_table(
     )
 
 
-def han(v: Vec2, w: Vec3, normal: Vec2, p: Params, sin_theta: float) -> tuple[Vec2, Vec3]:
+def han(
+    v: Vec2, w: Vec3, normal: Vec2, p: Params, sin_theta: float, work: list[int] | None = None
+) -> tuple[Vec2, Vec3]:
     """Han 2005: one impulse at the nose contact I, in closed form.
 
     The normal impulse reverses the normal velocity with restitution e_c; the ball is held on
@@ -195,25 +199,29 @@ def _force_law(s: float, c: float, mu_w: float, mu_s: float, eps: float) -> Call
     return forces
 
 
-def mathavan(v: Vec2, w: Vec3, normal: Vec2, p: Params, sin_theta: float) -> tuple[Vec2, Vec3]:
+def mathavan(
+    v: Vec2, w: Vec3, normal: Vec2, p: Params, sin_theta: float, work: list[int] | None = None
+) -> tuple[Vec2, Vec3]:
     """Mathavan 2010: integrate the impact over the normal impulse at I (see the module doc).
 
-    The impact ends when the work of the normal force has given back e_c^2 of what compression
-    took (ERRATA 7: with E the energy absorbed so far, E rises while v_y > 0 and restitution ends
-    when E <= (1 - e_c^2) E_max; E_max is the value at v_y = 0). Compression and restitution are
-    one smooth integration, so only E_max and the end need locating: both are found on the
-    cubic Hermite interpolant of the step they fall in, as accurate as the step itself.
-    The integrator is the classical 4th-order Runge-Kutta (the seed's explicit Euler is 1st
-    order) with p.mathavan_steps steps over the frictionless compression impulse, each step
-    shortened where the slips demand it: to land where a slip closing on zero reaches it, to
-    turn a slip's direction by at most _TURN, and to keep Coulomb friction's stiffness near a
-    small slip within Runge-Kutta's stable range. A slip closing on zero within _SNAP_SLIP of
+    The impact ends when the work of the normal force has given back e_c^2 of what compression took
+    (docs/physics.md, correction 7: with E the energy absorbed so far, E rises while v_y > 0 and
+    restitution ends when E <= (1 - e_c^2) E_max; E_max is the value at v_y = 0). Compression and
+    restitution are one smooth integration, so only E_max and the end need locating: both are found
+    on the cubic Hermite interpolant of the step they fall in, as accurate as the step itself.
+    The integrator is the classical 4th-order Runge-Kutta (explicit Euler, where the model started,
+    is 1st order) with p.mathavan_steps steps over the frictionless compression impulse, each step
+    shortened where the slips demand it: to land where a slip closing on zero reaches it, to turn a
+    slip's direction by at most _TURN, and to keep Coulomb friction's stiffness near a small slip
+    within Runge-Kutta's stable range. A slip closing on zero within _SNAP_SLIP of
     the speed scale is set exactly to zero (a correction impulse of that size), so that the
     contact sticks or turns without chatter. A ball not moving into the cushion is returned
     unchanged; one that friction wedges into it (the normal velocity stops falling during
     compression, possible only with friction far beyond real cushions) gets Han's result.
     Cost: about 10-15 steps of 5 force evaluations for a rolling ball at the default 4 steps;
-    rebound velocity within about 1e-4 of the incoming speed of a converged result.
+    rebound velocity within about 1e-4 of the incoming speed of a converged result. Heavy spin
+    on a steep nose can take a thousand steps (a few ms); the steps taken are added to
+    `work[0]` when `work` is given, which is how the engine's budget sees them.
     """
     if _leaving(v, normal):
         return v, w
@@ -334,7 +342,8 @@ def mathavan(v: Vec2, w: Vec3, normal: Vec2, p: Params, sin_theta: float) -> tup
     y = (vx, vy, Wx, Wy, Wz, 0.0)
     d = rate(*y[:5])
     target = -math.inf
-    for _ in range(_MAX_STEPS + 10 * p.mathavan_steps):
+    taken = 0
+    for taken in range(1, _MAX_STEPS + 10 * p.mathavan_steps + 1):
         if target == -math.inf and d[1] >= 0.0:
             break  # friction wedges the ball: the compression cannot end
         step, contact = step_limit(y, d)
@@ -354,10 +363,14 @@ def mathavan(v: Vec2, w: Vec3, normal: Vec2, p: Params, sin_theta: float) -> tup
             m0, m1 = d[5] * step, d1[5] * step
             u = _hermite_root(y[5] - target, y1[5] - target, m0, m1, lo)
             end = rk4(y, d, u * step)
+            if work is not None:
+                work[0] += taken
             return _to_table(end[0], end[1], end[2], end[3], end[4], normal, R)
         y, d = y1, d1
     # Only for friction far beyond any cloth or rubber (cushion friction near 1 with a steep
     # nose): the impulse integration cannot finish, and the closed form stands in for it.
+    if work is not None:
+        work[0] += taken
     return han(v, w, normal, p, sin_theta)
 
 

@@ -1,10 +1,18 @@
-"""`billiards diagrams OUTDIR`: write the PNG figures of the physics models."""
+"""`billiards diagrams OUTDIR`: write the PNG figures of the physics models.
+
+matplotlib is an optional extra (`pip install 'billiards[diagrams]'`) that nothing else needs;
+without it this command says so in one line and exits with status 2.
+"""
 
 from __future__ import annotations
 
 import argparse
 import json
+import sys
 from pathlib import Path
+
+#: What the command says when matplotlib is not installed.
+MISSING = "billiards diagrams: needs matplotlib; install it with: pip install 'billiards[diagrams]'"
 
 
 def register(subparsers) -> None:
@@ -24,7 +32,13 @@ def register(subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from physics.diagrams import write_all
+    try:
+        from physics.diagrams import write_all
+    except ModuleNotFoundError as exc:
+        if exc.name != "matplotlib":
+            raise
+        print(MISSING, file=sys.stderr)
+        return 2
 
     rows = json.loads(args.accuracy.read_text()) if args.accuracy else None
     for path in write_all(args.outdir, rows):

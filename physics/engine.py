@@ -38,14 +38,28 @@ MIN_APPROACH = 1e-9
 #: Approach speeds below this (m/s) are a resting contact: resolved without rebound, which
 #: stops the endless ever-smaller bounces of a ball pressed against another ball or a cushion.
 REST_SPEED = 1e-4
-#: The most events a shot may have before the engine gives up: far above any real shot.
-MAX_EVENTS = 20_000
+#: The budget of one shot, which ends a runaway shot (a scene built to burn a server core) with
+#: `BudgetExceeded` at a bounded cost: at most MAX_EVENTS events, and at most MAX_WORK units of
+#: work, since the work of an event grows with the balls on the table and a cushion impact can
+#: cost a thousand integration steps. A contact test (a ball against another ball or a jaw or
+#: pocket circle: the chord test and, where that cannot cull, a quartic) is one unit, a step
+#: of Mathavan's cushion integration CUSHION_STEP_WORK units (their costs are in that ratio).
+#: Real shots stay far inside both: a full-power break makes 80-250 events and 3,000-12,000
+#: units. At the budget a shot has cost about 120 ms on one core of the development machine
+#: (bench/adversarial.py).
+MAX_EVENTS = 2_000
+MAX_WORK = 40_000
+CUSHION_STEP_WORK = 2
 
 _MOVING = (SLIDING, ROLLING)
 
 
 class SimulationError(RuntimeError):
     """The engine could not finish a shot (a bug, or a scene far outside play)."""
+
+
+class BudgetExceeded(SimulationError):
+    """A shot went past the engine's budget (MAX_EVENTS, MAX_WORK) and was abandoned."""
 
 
 class _Ball:
@@ -124,6 +138,12 @@ class Simulation:
         #: looked at, and how many of those were not culled and needed a quartic solved.
         self.contacts_checked = 0
         self.quartics_solved = 0
+        #: Integration steps the cushion model took, in a list it adds to (see physics.cushion).
+        self.cushion_steps = [0]
+
+    def work(self) -> int:
+        """The work done so far, in the units of MAX_WORK."""
+        return self.contacts_checked + CUSHION_STEP_WORK * self.cushion_steps[0]
 
     # -- state changes -------------------------------------------------------------------
 
@@ -300,7 +320,7 @@ class Simulation:
         b.advance(self.now)
         v = (b.vx, b.vy)
         if self.spin:
-            v_new, w_new = self.cushion(v, b.w, normal, self.p, self.sin_theta)
+            v_new, w_new = self.cushion(v, b.w, normal, self.p, self.sin_theta, self.cushion_steps)
         else:
             vn = v[0] * normal[0] + v[1] * normal[1]
             k = (1.0 + self.p.e_c) * vn
@@ -314,6 +334,14 @@ class Simulation:
             (ax, ay), state = self._accel(v_new, w_new)
             if state == SLIDING and ax * normal[0] + ay * normal[1] < 0.0:
                 v_new, w_new = self._finish_slide(v_new, w_new)
+                # The roll a slide ends in may still run into the cushion: the cushion takes
+                # that too, as a resting contact takes no rebound. Left to a real impact, a dead
+                # cushion (e_c = 0) would hand back a slide pressing in again, and each round
+                # would sink REST_DEPTH deeper.
+                vn_out = v_new[0] * normal[0] + v_new[1] * normal[1]
+                if vn_out < 0.0:
+                    v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
+                    w_new = motion.rolling_spin(v_new, w_new[2], self.p.R)
         self._set_motion(b, v_new, w_new)
         self._emit(kind, (b.name,), **names)
         self._predict(i)
@@ -326,7 +354,10 @@ class Simulation:
         nil): no rebound, the pair merging its normal velocities as an inelastic pair (a
         rolling ball weighs 7/5 m there, as the cloth keeps it rolling); a ball that sliding
         friction presses into the other finishes its slide at once (so the push becomes one
-        real collision); and where rolling resistance alone presses them together (their
+        real collision), and so does a slide beside a roll that slows into it (else each new
+        contact would come REST_DEPTH deeper than the last); a collision that would not part
+        them (dead balls, e_b near 0) is merged rather than played; and where rolling
+        resistance alone presses them together (their
         paths converge by mm/s^2), the ball behind gives up just enough of its approach to
         stay clear until either ball stops. Every step only dissipates energy.
         """
@@ -337,11 +368,25 @@ class Simulation:
             va, wa = self._finish_slide(va, wa)
         if sb == SLIDING and ab[0] * n[0] + ab[1] * n[1] < 0.0:
             vb, wb = self._finish_slide(vb, wb)
-        if (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1] >= REST_SPEED:
-            return va, wa, vb, wb  # now truly approaching: a real collision follows at once
+        approach = (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1]
+        if approach >= REST_SPEED and p.e_b * approach >= REST_SPEED:
+            # Now truly approaching: a real collision follows at once and parts them. (One that
+            # would not part them, dead balls, is merged below instead: it would leave them
+            # pressing, and each round would sink REST_DEPTH deeper.)
+            return va, wa, vb, wb
         va, wa, vb, wb = self._merge(va, wa, vb, wb, n)
         (aa, sa), (ab, sb) = self._accel(va, wa), self._accel(vb, wb)
         pressing = (aa[0] - ab[0]) * n[0] + (aa[1] - ab[1]) * n[1]
+        if pressing > 0.0 and SLIDING in (sa, sb):
+            # Still pressed together (a slide sideways beside a roll slowing down): the slides
+            # finish now too, or each new contact would sink REST_DEPTH deeper until they end.
+            if sa == SLIDING:
+                va, wa = self._finish_slide(va, wa)
+            if sb == SLIDING:
+                vb, wb = self._finish_slide(vb, wb)
+            va, wa, vb, wb = self._merge(va, wa, vb, wb, n)
+            (aa, sa), (ab, sb) = self._accel(va, wa), self._accel(vb, wb)
+            pressing = (aa[0] - ab[0]) * n[0] + (aa[1] - ab[1]) * n[1]
         if pressing <= 0.0 or SLIDING in (sa, sb):
             return va, wa, vb, wb
         until = min(motion.transition_time(sa, va, wa, p), motion.transition_time(sb, vb, wb, p))
@@ -455,8 +500,11 @@ class Simulation:
             if balls[i].version != vi or (j >= 0 and balls[j].version != vj):
                 continue
             count += 1
-            if count > MAX_EVENTS:
-                raise SimulationError(f"more than {MAX_EVENTS} events; giving up")
+            if count > MAX_EVENTS or self.work() > MAX_WORK:
+                raise BudgetExceeded(
+                    f"the shot went past the engine's budget ({MAX_EVENTS} events, "
+                    f"{MAX_WORK} units of work) and was abandoned"
+                )
             self.now = t
             if kind == "ball":
                 self._collide_balls(i, j)

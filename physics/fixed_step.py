@@ -1,7 +1,7 @@
 """A fixed-step reference integrator: how browser billiards engines simulate a shot.
 
-Every step of length dt: the forces of Han 2005 (with ERRATA.md items 1-3, as in
-physics.motion) change each ball's velocity and spin (semi-implicit Euler: velocities first,
+Every step of length dt: the forces of Han 2005 (with docs/physics.md's corrections 1-3,
+as in physics.motion) change each ball's velocity and spin (semi-implicit Euler: velocities first,
 then positions with the new velocities); a ball whose next position would touch another ball,
 a cushion or a jaw while approaching it is resolved there with the same collision models the
 event engine uses (physics.ball_ball, physics.cushion); a ball whose centre enters a pocket's
@@ -78,7 +78,8 @@ class _Run:
     # -- forces --------------------------------------------------------------------------
 
     def _forces(self, b: _Ball) -> None:
-        """One semi-implicit Euler update of b's velocity and spin (Han 2005, ERRATA 1-3).
+        """One semi-implicit Euler update of b's velocity and spin (Han 2005 with
+        docs/physics.md's corrections 1-3).
 
         A slip that friction would cancel within the step ends the slide exactly there
         (v loses 2/7 of the slip, the ball rolls); a roll or a spin about the vertical that

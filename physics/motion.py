@@ -1,4 +1,4 @@
-"""Closed-form ball motion between events (Han 2005, with ERRATA.md items 1-3).
+"""Closed-form ball motion between events (Han 2005, with docs/physics.md's corrections 1-3).
 
 In every state the acceleration and the angular acceleration are constant, so between events
 a ball moves on a parabola and its spin changes linearly:
@@ -31,7 +31,7 @@ EPS_SPIN = 1e-9
 
 
 def spin_decel(p: Params) -> float:
-    """|dw_z/dt| (rad/s^2) from the spin friction u_sp (errata 3)."""
+    """|dw_z/dt| (rad/s^2) from the spin friction u_sp (docs/physics.md, correction 3)."""
     return 2.5 * p.u_sp * p.g / p.R
 
 

@@ -2,14 +2,13 @@
 
 A `Params` value is immutable and travels with the scene it belongs to; nothing in the engine
 reads a module global, so two tables with different cloth can be simulated side by side.
-The scene format's names are kept (`u_s`, `u_r`, ...), see the physics issue and the errata in
-`shared/seed/ERRATA.md` for how each is used.
+The scene format's names are kept (`u_s`, `u_r`, ...); docs/physics.md says how each is used
+and where it departs from the starting equations (its "Corrections").
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields, replace
-from typing import Any
+from dataclasses import dataclass
 
 
 @dataclass(frozen=True, slots=True)
@@ -18,14 +17,16 @@ class Params:
 
     R, m: ball radius (m) and mass (kg).
     u_s: ball-cloth sliding friction; a sliding ball's slip point decelerates at 7/2 u_s g.
-    u_r: rolling resistance as in Han 2005: a rolling ball decelerates at u_r g (errata 2).
-    u_sp: spin (about the vertical) friction: dw_z/dt = -5/2 u_sp g / R in every state (errata 3).
+    u_r: rolling resistance as in Han 2005: a rolling ball decelerates at u_r g (docs/physics.md,
+        correction 2).
+    u_sp: spin (about the vertical) friction: dw_z/dt = -5/2 u_sp g / R in every state
+        (correction 3).
     e_b: ball-ball coefficient of restitution.
     e_c: ball-cushion coefficient of restitution.
     f_c: ball-cushion sliding friction (mu_w of Mathavan 2010).
     g: gravity (m/s^2).
     throw_a, throw_b, throw_c: Alciatore's ball-ball friction fit mu(v) = a + b exp(-c v)
-        where v is the contact-point slip speed (errata 4).
+        where v is the contact-point slip speed (correction 4).
     m_cue: cue mass (kg) for the cue strike model.
     mathavan_steps: Runge-Kutta steps of the Mathavan cushion integration over the impulse a
         frictionless compression would take (shorter steps are taken where slips need them).
@@ -46,16 +47,8 @@ class Params:
     m_cue: float = 0.567
     mathavan_steps: int = 4
 
-    def with_overrides(self, overrides: dict[str, Any]) -> Params:
-        """A copy with some fields replaced; unknown names are an error."""
-        known = {f.name for f in fields(self)}
-        unknown = sorted(set(overrides) - known)
-        if unknown:
-            raise ValueError(f"unknown params: {', '.join(unknown)}")
-        return replace(self, **overrides)
 
-
-#: Pool balls (2 1/4 in, 6 oz) on ordinary worsted cloth: the seed's constants.
+#: Pool balls (2 1/4 in, 6 oz) on ordinary worsted cloth: the common values for pool.
 POOL = Params()
 
 #: Snooker balls (52.5 mm, about 141 g) on napped snooker cloth, which runs a little further.

@@ -14,8 +14,7 @@ published defaults were used as a cross-check for the pool values.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
-from typing import Any
+from dataclasses import dataclass
 
 from physics.params import CAROM, POOL, SNOOKER, Params
 
@@ -32,12 +31,17 @@ class Segment:
 
 @dataclass(frozen=True, slots=True)
 class Jaw:
-    """The rounded end of a rail at a pocket mouth: a circle the ball can hit from outside."""
+    """The rounded end of a rail at a pocket mouth: a circle the ball can hit from outside.
+
+    normal: the inward normal of the rail it ends; the circle touches that rail's nose line at
+    center + radius * normal, where the straight nose stops.
+    """
 
     name: str
     pocket: str
     center: tuple[float, float]
     radius: float
+    normal: tuple[float, float]
 
 
 @dataclass(frozen=True, slots=True)
@@ -73,13 +77,6 @@ class TableSpec:
     side_radius: float = 0.0645
     jaw_radius: float = 0.02095
 
-    def with_overrides(self, overrides: dict[str, Any]) -> TableSpec:
-        known = set(self.__dataclass_fields__) - {"name"}
-        unknown = sorted(set(overrides) - known)
-        if unknown:
-            raise ValueError(f"unknown table fields: {', '.join(unknown)}")
-        return replace(self, name=overrides.get("name", "custom"), **overrides)
-
     def geometry(self) -> Geometry:
         return build_geometry(self)
 
@@ -107,8 +104,8 @@ def _corner(name: str, corner: tuple[float, float], inward: tuple[float, float],
     end_x = (cx + sx * c, cy)  # end of the rail that runs along x (the short rail)
     end_y = (cx, cy + sy * c)  # end of the rail that runs along y (the long rail)
     jaws = (
-        Jaw(f"{name}_x", name, (end_x[0], cy - sy * r), r),
-        Jaw(f"{name}_y", name, (cx - sx * r, end_y[1]), r),
+        Jaw(f"{name}_x", name, (end_x[0], cy - sy * r), r, (0.0, float(sy))),
+        Jaw(f"{name}_y", name, (cx - sx * r, end_y[1]), r, (float(sx), 0.0)),
     )
     mid = (cx + sx * c / 2, cy + sy * c / 2)
     d = spec.corner_depth / math.sqrt(2.0)
@@ -122,8 +119,8 @@ def _side(name: str, x: float, inward: float, spec: TableSpec):
     h = spec.side_mouth / 2
     r = spec.jaw_radius
     jaws = (
-        Jaw(f"{name}_low", name, (x - inward * r, ym - h), r),
-        Jaw(f"{name}_high", name, (x - inward * r, ym + h), r),
+        Jaw(f"{name}_low", name, (x - inward * r, ym - h), r, (inward, 0.0)),
+        Jaw(f"{name}_high", name, (x - inward * r, ym + h), r, (inward, 0.0)),
     )
     pocket = Pocket(name, (x - inward * spec.side_depth, ym), spec.side_radius)
     return (ym - h, ym + h), jaws, pocket
@@ -156,6 +153,93 @@ def build_geometry(spec: TableSpec) -> Geometry:
     jaws = bl_j + br_j + ml_j + mr_j + tl_j + tr_j
     pockets = (bl_p, br_p, ml_p, mr_p, tl_p, tr_p)
     return Geometry(spec, segments, jaws, pockets)
+
+
+def mouth(g: Geometry, pocket: Pocket, R: float) -> tuple[tuple[float, float], ...]:
+    """The polygon of ball-centre positions past the cushion lines that lead into `pocket`.
+
+    Its corners: where the first rail's nose line, moved a radius into the table, ends (the top
+    of the jaw circle grown by R), that jaw's centre, the capture circle's centre, the second
+    jaw's centre, and the second rail's end. `check_table` makes each jaw circle grown by R
+    overlap the capture circle, so every edge of the polygon lies inside a rail, a grown jaw or
+    the capture circle: a ball centre in the mouth (not in a jaw or the capture circle) is
+    inside this polygon, and one inside it is fenced in by the rails, the jaws and the pocket.
+    """
+    first, second = (j for j in g.jaws if j.pocket == pocket.name)
+
+    def rail_end(j: Jaw) -> tuple[float, float]:
+        k = j.radius + R
+        return (j.center[0] + k * j.normal[0], j.center[1] + k * j.normal[1])
+
+    return (rail_end(first), first.center, pocket.center, second.center, rail_end(second))
+
+
+def inside(polygon: tuple[tuple[float, float], ...], x: float, y: float) -> bool:
+    """True when (x, y) is inside the simple polygon (crossing number; an edge point may go
+    either way)."""
+    crossings = False
+    x1, y1 = polygon[-1]
+    for x2, y2 in polygon:
+        if (y1 > y) != (y2 > y) and x < x1 + (y - y1) * (x2 - x1) / (y2 - y1):
+            crossings = not crossings
+        x1, y1 = x2, y2
+    return crossings
+
+
+def check_table(spec: TableSpec, R: float) -> None:
+    """Raise ValueError naming the first thing that makes `spec` unplayable with balls of radius R.
+
+    - The cushion nose touches the ball between its equator and 0.8 R above it
+      (cushion_height in [R, 1.8 R]): below the equator a cushion would lift the ball, and near
+      the top the cushion models' contact angle degenerates (cos(theta) -> 0). Real tables are at
+      1.2-1.4 R.
+    - A ball fits between the jaw tips (mouths wider than 2R), and every straight rail keeps at
+      least a ball's radius of length between its pockets.
+    - Each pocket closes its mouth: its capture circle overlaps both of its jaw circles grown by
+      R, so a ball that passes the cushion line in a mouth either meets a jaw or drops; nothing
+      lets it leave the table (see `mouth`).
+    """
+    if not R <= spec.cushion_height <= 1.8 * R:
+        raise ValueError(f"table.cushion_height must be between R and 1.8 R ({R} m balls)")
+    if not spec.pockets:
+        return
+    for name in ("corner_mouth", "side_mouth"):
+        if getattr(spec, name) <= 2.0 * R:
+            raise ValueError(f"table.{name} must be wider than a ball (2 R = {2 * R} m)")
+    corner = spec.corner_mouth / math.sqrt(2.0)
+    if min(spec.w - 2.0 * corner, spec.l / 2.0 - spec.side_mouth / 2.0 - corner) < R:
+        raise ValueError("table: the pockets leave no room for the rails between them")
+    g = spec.geometry()
+    for jaw in g.jaws:
+        pocket = next(p for p in g.pockets if p.name == jaw.pocket)
+        reach = math.dist(jaw.center, pocket.center)
+        if not reach < pocket.radius + jaw.radius + R:
+            raise ValueError(
+                f"table: pocket {pocket.name} does not close its mouth (its capture circle "
+                f"misses jaw {jaw.name}); enlarge its radius or reduce its depth"
+            )
+
+
+def position_problem(g: Geometry, R: float, x: float, y: float, tol: float) -> str | None:
+    """Why a ball of radius R cannot rest with its centre at (x, y); None when it can.
+
+    It can on the cloth (at least R - tol from every cushion nose line) or in a pocket's mouth
+    (inside the `mouth` polygon), but never inside a pocket's capture circle nor pressed more
+    than tol into a jaw. This is exactly where the engine leaves a ball at rest, so a shot's
+    final positions are always a valid start for the next.
+    """
+    w, l = g.spec.w, g.spec.l
+    for pocket in g.pockets:
+        if math.hypot(x - pocket.center[0], y - pocket.center[1]) < pocket.radius:
+            return f"inside pocket {pocket.name}"
+    for jaw in g.jaws:
+        if math.hypot(x - jaw.center[0], y - jaw.center[1]) < jaw.radius + R - tol:
+            return f"in jaw {jaw.name}"
+    if R - tol <= x <= w - R + tol and R - tol <= y <= l - R + tol:
+        return None
+    if any(inside(mouth(g, pocket, R), x, y) for pocket in g.pockets):
+        return None
+    return "off the table or in a cushion"
 
 
 #: A 9 ft pool table (100 x 50 in playing surface) for nine-ball and eight-ball; the cushion

@@ -1,5 +1,5 @@
-"""Energy and momentum bookkeeping of every collision model: what each dissipates, checked
-against its restitution and friction (ERRATA 4-7 for the models' definitions)."""
+"""Energy and momentum bookkeeping of every collision model: what each dissipates, checked against
+its restitution and friction (docs/physics.md, corrections 4-7, for the models' definitions)."""
 
 from __future__ import annotations
 

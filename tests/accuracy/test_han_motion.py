@@ -1,4 +1,5 @@
-"""Ball motion between collisions against the closed forms of Han 2005 (with ERRATA 1-3)."""
+"""Ball motion between collisions against the closed forms of Han 2005 (with docs/physics.md's
+corrections 1-3)."""
 
 from __future__ import annotations
 
@@ -48,8 +49,8 @@ def test_struck_ball_slides_then_rolls_to_rest(v0):
 
 
 def test_side_spin_alone_decays_at_the_spin_rate():
-    """ERRATA 3: a ball spinning in place loses w_z at 5/2 u_sp g / R; it stops after
-    |w_z| R / (2.5 u_sp g). Tolerance 1e-9 relative."""
+    """Correction 3 (docs/physics.md): a ball spinning in place loses w_z at 5/2 u_sp g / R; it
+    stops after |w_z| R / (2.5 u_sp g). Tolerance 1e-9 relative."""
     shot = open_table((0.0, 0.0), (0.0, 0.0, 30.0))
     assert event_time(shot, "spinning_stationary") == pytest.approx(
         30.0 * R / (2.5 * P.u_sp * G), rel=1e-9
@@ -91,9 +92,10 @@ def test_stun_follow_draw_after_a_full_hit(kind, roll_factor):
 
 @pytest.mark.parametrize("side", [0.3, -0.3])
 def test_masse_swerve_is_a_parabola_towards_the_side_hit(side):
-    """Han 2005 / ERRATA 1: while it slides the slip keeps its direction, so the ball moves on
-    a parabola: the lateral offset is 1/2 a_x t^2 with a = -u_s g (slip direction). An elevated
-    cue with right english (a > 0) swerves the ball right, left english left. Tolerance 1e-9."""
+    """Han 2005 with correction 1 (docs/physics.md): while it slides the slip keeps its
+    direction, so the ball moves on a parabola: the lateral offset is 1/2 a_x t^2 with
+    a = -u_s g (slip direction). An elevated cue with right english (a > 0) swerves the ball
+    right, left english left. Tolerance 1e-9."""
     shot = simulate(
         {
             "table": {"preset": "nineball", "w": 10.0, "l": 10.0, "pockets": False},

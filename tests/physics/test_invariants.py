@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
@@ -55,7 +56,13 @@ def scenes(draw):
         "cushion": draw(st.sampled_from(["mathavan", "han"])),
         "spin": draw(st.booleans()),
     }
-    return {"table": "nineball", "balls": balls, "initial": initial, "models": models}
+    # Now and then dead balls or cushions, where resting contacts are most often pressed.
+    params = {
+        "e_b": draw(st.sampled_from([POOL.e_b, POOL.e_b, 0.0])),
+        "e_c": draw(st.sampled_from([POOL.e_c, POOL.e_c, 0.0])),
+    }
+    scene = {"table": "nineball", "balls": balls, "initial": initial, "models": models}
+    return scene | {"params": params}
 
 
 @settings(max_examples=1000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -79,6 +86,75 @@ def test_random_scenes_keep_the_invariants(scene):
         assert after <= before * (1 + 1e-12) + 1e-15, kind
     # Bit-identical on a second run.
     assert simulate(scene).to_msgpack() == shot.to_msgpack()
+    # Every ball at rest is where the next shot's scene accepts it.
+    assert_next_scene_accepts(shot)
+
+
+def assert_next_scene_accepts(shot, table="nineball"):
+    """The balls left on the table make a valid scene: a live game can always go on."""
+    left = {k: list(f.pos) for k, f in shot.final.items() if f.pos is not None}
+    if left:
+        parse_scene({"table": table, "balls": left})
+
+
+def test_ball_at_rest_in_a_side_pocket_mouth_is_a_valid_next_scene():
+    """The issue's example: a slow shot from a ball flush with the rail by the side pocket ends
+    with the ball against the jaw, its centre past the cushion line in the mouth; the next
+    shot's scene refused that position, which would leave a live game stuck."""
+    scene = {
+        "table": "nineball",
+        "balls": {"cue": [0.028575, 1.2133063643341258]},
+        "strike": {
+            "ball": "cue",
+            "speed": 0.0166,
+            "heading": 188.68,
+            "elevation": 21.14,
+            "a": -0.0789,
+            "b": 0.349,
+        },
+    }
+    shot = simulate(scene)
+    x, y = shot.final["cue"].pos
+    assert shot.final["cue"].state == "stationary"
+    assert x < R - 1e-6 and x == pytest.approx(0.027233, abs=2e-6)  # past the cushion line
+    assert_next_scene_accepts(shot)
+    again = simulate({**scene, "balls": {"cue": [x, y]}})  # and it can be played from there
+    assert_next_scene_accepts(again)
+
+
+@st.composite
+def flush_by_a_pocket(draw):
+    """A slow strike of a ball flush with a rail, within a mouth's width of a pocket."""
+    pocket = draw(st.sampled_from(GEOMETRY.pockets))
+    px, py = pocket.center
+    along = draw(st.floats(-0.12, 0.12))
+    if pocket.name.startswith("middle"):
+        x, y = (R if px < W / 2 else W - R), py + along
+    else:
+        x = R if px < W / 2 else W - R
+        y = (0.12 if py < L / 2 else L - 0.12) + along
+        if draw(st.booleans()):  # flush with the short rail instead
+            x, y = (0.12 if px < W / 2 else W - 0.12) + along, (R if py < L / 2 else L - R)
+    strike = {
+        "ball": "cue",
+        "speed": draw(st.floats(0.005, 0.6)),
+        "heading": draw(st.floats(0.0, 360.0)),
+        "elevation": draw(st.floats(0.0, 30.0)),
+        "a": draw(st.floats(-0.35, 0.35)),
+        "b": draw(st.floats(-0.35, 0.35)),
+    }
+    scene = {"table": "nineball", "balls": {"cue": [x, y]}, "strike": strike}
+    try:
+        parse_scene(scene)
+    except SceneError:
+        assume(False)
+    return scene
+
+
+@settings(max_examples=600, deadline=None)
+@given(flush_by_a_pocket())
+def test_a_ball_at_rest_is_always_a_valid_next_position(scene):
+    assert_next_scene_accepts(simulate(scene))
 
 
 def _in_a_mouth(x: float, y: float) -> bool:

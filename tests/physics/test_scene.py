@@ -1,12 +1,23 @@
 """The scene format: every invalid scene is refused with a clear message and exit status 2."""
 
 import json
+import math
 import subprocess
 import sys
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from physics import SceneError, parse_scene, simulate_scene
+from physics import (
+    BudgetExceeded,
+    SceneError,
+    SimulationError,
+    parse_scene,
+    scene_from_json,
+    simulate_scene,
+)
+from physics.scene import MAX_SCENE_BYTES
 
 R = 0.028575
 GOOD = {"table": "nineball", "balls": {"cue": [0.5, 0.5], "1": [0.5, 1.5]}}
@@ -32,22 +43,52 @@ def with_(**changes):
         (with_(strike={"ball": "7", "speed": 2.0, "heading": 0.0}), "unknown ball ids: 7"),
         (with_(strike={"ball": "cue", "speed": 50.0, "heading": 0.0}), "strike"),
         (with_(strike={"ball": "cue", "speed": 2.0, "heading": 0.0, "a": 0.6}), "strike"),
-        (with_(table="pool"), "unknown table"),
+        (with_(table="pool"), "^table: Input should be 'nineball'"),
         (with_(table={"w": -1.0, "l": 2.0}), "table.w"),
-        (with_(table={"w": 1.0, "l": 2.0, "lenght": 3}), "unknown table fields"),
+        (with_(table={"w": 1.0, "l": 2.0, "lenght": 3}), "table.lenght: Extra inputs"),
         (with_(params={"u_s": -0.1}), "params.u_s"),
         (with_(params={"e_b": 1.5}), "params.e_b"),
-        (with_(params={"spin": 1.0}), "unknown params"),
-        (with_(params={"mathavan_steps": 4.5}), "whole number"),
+        (with_(params={"spin": 1.0}), "params.spin: Extra inputs"),
+        (with_(params={"mathavan_steps": 4.5}), "params.mathavan_steps"),
         (with_(models={"cushion": "bogus"}), "models.cushion"),
         (with_(extra=1), "extra"),
-        (with_(balls={"cue": [0.02, 0.02]}), "off the table"),
+        (with_(balls={"cue": [0.01, 0.5]}), "off the table or in a cushion"),
         (with_(balls={"cue": [0.03, 0.05]}), "pocket"),
+        # Wrong types and absurd numbers (the issue's hostile scenes), each a one-line refusal.
+        (
+            with_(table={"corner_depth": "x"}),
+            "^table.corner_depth: Input should be a valid number$",
+        ),
+        (with_(table={"pockets": 1}), "table.pockets"),
+        (with_(balls={"cue": ["0.5", 0.5]}), "balls.cue.0"),
+        (with_(balls={"cue": [True, 0.5]}), "balls.cue.0"),
+        (with_(params={"m": 1e308}), "^params.m: Input should be less than or equal to 0.5$"),
+        (with_(params={"R": 10**5000}), "params.R"),
+        (with_(params={"mathavan_steps": 100_000}), "params.mathavan_steps"),
+        (with_(params={"u_r": 1e-9}), "params.u_r"),
+        (with_(table={"w": 1e308}), "table.w"),
+        (with_(params={"u\n_r": 1.0}), "Extra inputs"),  # printed escaped, on one line
+        (with_(params={"u_r": None}), "params: Value error, null is not a value \\(u_r\\)"),
+        (with_(strike={"ball": "cue", "speed": 2.0, "heading": 1e6}), "strike.heading"),
+        # Geometry that would let a ball off the table, or leave no table.
+        (with_(table={"corner_radius": 0.001}), "pocket bottom_left does not close its mouth"),
+        (with_(table={"side_depth": 0.2}), "pocket middle_left does not close its mouth"),
+        (with_(table={"corner_mouth": 0.05}), "corner_mouth must be wider than a ball"),
+        (with_(table={"l": 0.5, "side_mouth": 0.3, "corner_mouth": 0.3}), "no room for the rails"),
+        (with_(table={"cushion_height": 0.06}), "cushion_height must be between R and 1.8 R"),
+        (with_(table={"cushion_height": 0.02}), "cushion_height must be between R and 1.8 R"),
     ],
 )
 def test_invalid_scene_is_refused(scene, message):
-    with pytest.raises(SceneError, match=message):
+    with pytest.raises(SceneError, match=message) as caught:
         parse_scene(scene)
+    assert "\n" not in str(caught.value)
+
+
+def test_a_table_that_fits_is_accepted():
+    """The bounds refuse broken tables, not unusual ones: a small bar table with deep pockets."""
+    scene = parse_scene(with_(table={"w": 0.99, "l": 1.98, "corner_depth": 0.05}))
+    assert scene.geometry.spec.corner_depth == 0.05
 
 
 def test_overrides_apply_per_scene():
@@ -104,3 +145,97 @@ def test_cli_reads_stdin_and_rejects_bad_scenes_with_status_2():
     assert bad.returncode == 2 and "overlap" in bad.stderr
     garbage = cli("-", stdin="{not json")
     assert garbage.returncode == 2
+
+
+#: A legal scene that runs into the engine's budget: 32 balls at full speed on the smallest
+#: pocketless table, with the liveliest cushions and cloth the bounds allow.
+RUNAWAY = {
+    "table": {"w": 0.5, "l": 0.5, "pockets": False},
+    "params": {"e_c": 0.98, "u_r": 0.005, "e_b": 1.0, "f_c": 0.0, "u_s": 0.05},
+    "balls": {f"b{i}": [0.07 + 0.06 * (i % 7), 0.1 + 0.06 * (i // 7)] for i in range(32)},
+    "initial": {f"b{i}": {"v": [11.9 * math.cos(i), 11.9 * math.sin(i)]} for i in range(32)},
+}
+
+
+def test_a_runaway_shot_ends_with_the_budget_error():
+    with pytest.raises(BudgetExceeded, match="budget") as caught:
+        simulate_scene(RUNAWAY)
+    assert isinstance(caught.value, SimulationError)
+
+
+@pytest.mark.parametrize(
+    ("document", "message"),
+    [
+        (b"[" * 30_000 + b"]" * 30_000, "nested too deeply"),
+        (b'{"balls": {"cue": [' + b"1" * 5000 + b", 0.5]}}", "not JSON"),
+        (b'{"balls": {"cue": [1' + b"0" * 400 + b", 0.5]}}", "balls.cue.0"),
+        ('{"table": "nineball"}'.encode("utf-16"), "UTF-8"),
+        ('{"balls": {"café": [0.5, 0.5]}}'.encode("latin-1"), "UTF-8"),
+        (b" " * (MAX_SCENE_BYTES + 1), "at most"),
+        (b"[1, 2]", "JSON object"),
+        (json.dumps(RUNAWAY).encode(), "budget"),
+    ],
+)
+def test_cli_refuses_hostile_input_in_one_line(document, message):
+    res = subprocess.run(
+        [sys.executable, "-m", "server.cli", "simulate", "-"],
+        input=document,
+        capture_output=True,
+        check=False,
+    )
+    err = res.stderr.decode()
+    assert res.returncode == 2, err
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+    with pytest.raises(SceneError if message != "budget" else SimulationError):
+        simulate_scene(scene_from_json(document))
+
+
+SCALARS = (
+    st.none()
+    | st.booleans()
+    | st.integers(-(10**30), 10**30)
+    | st.floats(allow_nan=True, allow_infinity=True)
+    | st.text(max_size=8)
+)
+JSON = SCALARS | st.recursive(
+    SCALARS,
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner),
+    max_leaves=12,
+)
+PLACES = st.sampled_from(
+    [
+        ("table",),
+        ("table", "w"),
+        ("table", "corner_radius"),
+        ("table", "pockets"),
+        ("params",),
+        ("params", "R"),
+        ("params", "mathavan_steps"),
+        ("balls",),
+        ("balls", "cue"),
+        ("initial",),
+        ("initial", "cue"),
+        ("strike",),
+        ("strike", "speed"),
+        ("strike", "ball"),
+        ("models",),
+        ("models", "spin"),
+    ]
+)
+
+
+@settings(max_examples=400, deadline=None)
+@given(place=PLACES, value=JSON)
+def test_any_value_anywhere_is_a_scene_or_a_scene_error(place, value):
+    """Whatever JSON value lands wherever in a scene, the answer is a scene or a SceneError."""
+    scene = json.loads(json.dumps(with_(strike={"ball": "cue", "speed": 1.0, "heading": 0.0})))
+    node = scene
+    for key in place[:-1]:
+        if not isinstance(node.get(key), dict):
+            node[key] = {}
+        node = node[key]
+    node[place[-1]] = value
+    try:
+        parse_scene(scene)
+    except SceneError as exc:
+        assert "\n" not in str(exc)

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from physics.cue import MAX_SPEED, MISCUE_LIMIT, strike
+from physics.cue import MAX_ELEVATION, MAX_SPEED, MISCUE_LIMIT, strike
 from physics.params import POOL
 
 R = POOL.R
@@ -78,7 +78,7 @@ def test_elevated_centre_hit_draws_and_keeps_less_speed():
 @given(
     speed=st.floats(0.01, MAX_SPEED),
     heading=st.floats(-720.0, 720.0),
-    elevation=st.floats(0.0, 89.0),
+    elevation=st.floats(0.0, MAX_ELEVATION),
     angle=st.floats(0.0, 2 * math.pi),
     radius=st.floats(0.0, MISCUE_LIMIT),
 )
@@ -97,11 +97,11 @@ def test_the_ball_never_gets_more_energy_than_the_cue_had(speed, heading, elevat
         ((2.0, 90.0, 0.0, float("nan"), 0.0), "a must be a finite"),
         ((0.0, 90.0, 0.0, 0.0, 0.0), "speed must be in"),
         ((-1.0, 90.0, 0.0, 0.0, 0.0), "speed must be in"),
-        ((12.5, 90.0, 0.0, 0.0, 0.0), "speed must be in"),
+        ((MAX_SPEED + 0.5, 90.0, 0.0, 0.0, 0.0), "speed must be in"),
         ((2.0, 90.0, -1.0, 0.0, 0.0), "elevation must be in"),
-        ((2.0, 90.0, 90.0, 0.0, 0.0), "elevation must be in"),
+        ((2.0, 90.0, MAX_ELEVATION + 0.5, 0.0, 0.0), "elevation must be in"),
         ((2.0, 90.0, 0.0, 0.4, 0.31), "miscue"),
-        ((2.0, 90.0, 0.0, 0.0, -0.51), "miscue"),
+        ((2.0, 90.0, 0.0, 0.0, -MISCUE_LIMIT - 0.01), "miscue"),
     ],
 )
 def test_bad_strikes_raise_clear_errors(args, message):
@@ -110,5 +110,5 @@ def test_bad_strikes_raise_clear_errors(args, message):
 
 
 def test_limits_are_accepted():
-    strike(MAX_SPEED, 0.0, 89.0, 0.0, MISCUE_LIMIT, POOL)
+    strike(MAX_SPEED, 0.0, MAX_ELEVATION, 0.0, MISCUE_LIMIT, POOL)
     strike(1e-6, 0.0, 0.0, -MISCUE_LIMIT, 0.0, POOL)

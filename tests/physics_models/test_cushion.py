@@ -173,8 +173,9 @@ def reference(v, w):
 def test_mathavan_converges_as_steps_grow(v, w):
     """The rebound velocity converges to a 4000-step reference as the step count grows.
 
-    Runge-Kutta 4 with located stops falls far faster than the seed's Euler (1/steps, ERRATA
-    7) until it meets a floor of about 1e-5 m/s set by where small slips are taken as stuck.
+    Runge-Kutta 4 with located stops falls far faster than explicit Euler (1/steps, docs/physics.md
+    correction 7) until it meets a floor of about 1e-5 m/s set by where small slips are taken as
+    stuck.
     The default step count is within 1e-4 of the incoming speed of the reference (0.3 mm of
     position per second of travel after a 3 m/s bounce).
     """
