@@ -152,10 +152,15 @@ class Simulation:
         p = self.p
         if not self.spin:
             w = motion.rolling_spin(v, 0.0, p.R)
+        state = motion.classify(v, w, p)
+        if state in (STATIONARY, SPINNING):
+            # Below EPS_SPEED the ball is at rest: a leftover crawl (say 1e-10 m/s) kept in its
+            # segment would carry it on at constant speed with no event to stop it.
+            v, w = (0.0, 0.0), (0.0, 0.0, w[2] if state == SPINNING else 0.0)
         b.t0 = self.now
         b.vx, b.vy = v
         b.w = w
-        b.state = motion.classify(v, w, p)
+        b.state = state
         (b.ax, b.ay), b.dw = motion.accelerations(b.state, v, w, p)
         b.version += 1
         self._record(b)

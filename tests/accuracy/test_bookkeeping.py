@@ -47,8 +47,10 @@ def test_frictionless_balls_conserve_momentum_and_lose_exactly_the_restitution_s
     assert va1[1] + vb1[1] == pytest.approx(va[1], abs=1e-12)
     assert wa1 == wa
     vn = va[0] * n[0] + va[1] * n[1]
-    lost = energy(va, wa) - energy(va1, wa1) - energy(vb1, wb1)
-    assert lost == pytest.approx((1 - e * e) / 4 * M * vn * vn, rel=1e-9, abs=1e-15)
+    before = energy(va, wa)
+    lost = before - energy(va1, wa1) - energy(vb1, wb1)
+    # The loss is a difference of energies: its rounding error scales with the energy itself.
+    assert lost == pytest.approx((1 - e * e) / 4 * M * vn * vn, rel=1e-9, abs=1e-14 * before)
 
 
 @settings(max_examples=200, deadline=None)
@@ -66,9 +68,10 @@ def test_alciatore_conserves_table_momentum_and_loses_at_least_the_normal_share(
     assert va1[0] + vb1[0] == pytest.approx(va[0], abs=1e-12)
     assert va1[1] + vb1[1] == pytest.approx(va[1], abs=1e-12)
     vn = va[0] * n[0] + va[1] * n[1]
-    lost = energy(va, wa) - energy(va1, wa1) - energy(vb1, wb1)
+    before = energy(va, wa)
+    lost = before - energy(va1, wa1) - energy(vb1, wb1)
     normal = (1 - P.e_b**2) / 4 * M * vn * vn
-    assert lost >= normal * (1 - 1e-9) - 1e-15
+    assert lost >= normal * (1 - 1e-9) - 1e-14 * before
     slip_bound = (P.throw_a + P.throw_b) * M * (1 + P.e_b) / 2 * vn * (speed * 2.6)
     assert lost <= normal + slip_bound
 

@@ -290,3 +290,17 @@ def test_a_dead_cushion_does_not_let_a_pressing_ball_sink_in(cushion):
     )
     assert deepest < 2e-10  # one REST_DEPTH at most
     assert len(shot.events) < 15
+
+
+@pytest.mark.parametrize("spin", [True, False])
+def test_a_crawl_below_the_rest_speed_leaves_the_ball_where_it_is(spin):
+    """A ball set moving at 1e-10 m/s (at the engine's rest threshold) against a frozen
+    neighbour is at rest: it neither creeps on at constant speed while another ball runs for
+    seconds nor presses into its neighbour."""
+    balls = {"a": [1.0, 1.0], "b": [1.0 + 2 * R, 1.0], "c": [R, 0.5]}
+    initial = {"a": {"v": [1e-10, 0.0], "w": [0, 0, 0]}, "c": {"v": [2.0, 0.0], "w": [0, 0, 0]}}
+    shot = run(balls, initial, models={"spin": spin})
+    assert shot.duration > 1.0
+    assert shot.final["a"].pos == (1.0, 1.0)
+    assert all(seg.v == (0.0, 0.0) for seg in shot.trajectories["a"])
+    assert_sane(shot)
