@@ -11,6 +11,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from physics import ENGINE_VERSION
 from rules.codes import Refusal
 from rules.compact import decode, encode, pack, unpack
 from rules.game import Setup
@@ -74,7 +75,7 @@ def test_every_input_field_survives():
         *(Choice(option=o) for o in ("play_on", "play_again", "replace")),
     )
     record = GameRecord(
-        engine="1",
+        engine=ENGINE_VERSION,
         setup=Setup(game="snooker", seed=2**62, gap=0.0001234, target=7),
         inputs=inputs,
         digests=tuple(range(0, 65536, 65536 // len(inputs)))[: len(inputs)],
@@ -87,7 +88,7 @@ def test_every_input_field_survives():
 @given(inputs=inputs, game=st.sampled_from(list(Game)))
 def test_any_inputs_survive(inputs, game):
     record = GameRecord(
-        engine="1",
+        engine=ENGINE_VERSION,
         setup=Setup(game=game, seed=5),
         inputs=inputs,
         digests=[k % 65536 for k in range(len(inputs))],
