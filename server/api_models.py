@@ -285,16 +285,6 @@ class TableMessage(BaseModel):
     view: TableView
 
 
-class ClockMessage(BaseModel):
-    model_config = _ANSWER
-
-    kind: Literal["clock"] = "clock"
-    protocol: int = PROTOCOL
-    version: int
-    seat: Seat
-    deadline: float
-
-
 class PresenceMessage(BaseModel):
     model_config = _ANSWER
 
