@@ -2,8 +2,9 @@
 
 `ROUTES` is the single source for both the router and the OpenAPI description
 (server/openapi.py): each route names its request model and its answers by status. Bodies are
-JSON of at most `MAX_BODY` bytes, parsed straight into their pydantic model (unknown fields,
-wrong types, NaN and over-deep nesting are refused there); every refusal is `ApiError` JSON.
+JSON of at most `MAX_BODY` bytes, parsed straight into their pydantic model in strict mode
+(unknown fields, wrong types such as `"3.0"` or `true` for a number, NaN and over-deep nesting
+are refused there); every refusal is `ApiError` JSON.
 """
 
 from __future__ import annotations
@@ -92,11 +93,14 @@ async def parse(request: web.Request, model: type[M]) -> M:
     if len(data) > MAX_BODY:
         raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies are at most {MAX_BODY} bytes")
     try:
-        return model.model_validate_json(data)
+        return model.model_validate_json(data, strict=True)
     except ValidationError as error:
         first = error.errors()[0]
         where = ".".join(str(part) for part in first["loc"]) or "body"
-        raise ServiceError(ErrorCode.BAD_REQUEST, f"{where}: {first['msg']}") from None
+        # A model's own check (a miscue: |(a, b)| > 0.5) refuses a well-formed body: the
+        # rules' refusal, not a malformed request.
+        code = ErrorCode.ILLEGAL_INPUT if first["type"] == "value_error" else ErrorCode.BAD_REQUEST
+        raise ServiceError(code, f"{where}: {first['msg']}") from None
 
 
 async def player_of(request: web.Request) -> PlayerInfo:

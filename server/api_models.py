@@ -10,7 +10,8 @@ from __future__ import annotations
 from enum import StrEnum
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, StringConstraints, field_validator
+from annotated_types import Interval
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StringConstraints
 
 from physics.trajectory import Event
 from rules.inputs import PlayerInput
@@ -20,8 +21,21 @@ from server.errors import ErrorCode
 
 #: The format version of channel messages; bumped when a client must change to read them.
 PROTOCOL = 1
-#: The shortest shot clock a table may have (s).
-MIN_SHOT_CLOCK = 10
+
+
+def _integral(value: object) -> object:
+    """8.0 is the integer 8 in JSON (and JSON Schema); `true` and `"8"` stay refused."""
+    return int(value) if isinstance(value, float) and value.is_integer() else value
+
+
+def json_int(low: int, high: int | None = None) -> object:
+    """An integer of a request in [low, high], parsed strictly (requests are strict)."""
+    return Annotated[int, Interval(ge=low, le=high), BeforeValidator(_integral)]
+
+
+#: Seconds per shot: 0 for no clock, else 10 to 300.
+ShotClock = json_int(0, 0) | json_int(10, 300)
+RaceTo = json_int(1, 15)
 
 _REQUEST = ConfigDict(frozen=True, extra="forbid")
 _ANSWER = ConfigDict(frozen=True)
@@ -106,10 +120,8 @@ class PlayerToken(BaseModel):
 class TableOptions(BaseModel):
     model_config = _REQUEST
 
-    race_to: Annotated[int, Field(ge=1, le=15)] = 1
-    shot_clock: Annotated[int, Field(ge=0, le=300)] = Field(
-        default=0, description="seconds per shot, 0: no clock (else at least 10)"
-    )
+    race_to: RaceTo = 1
+    shot_clock: ShotClock = Field(default=0, description="seconds per shot, 0: no clock")
     private: bool = False
 
 
@@ -118,17 +130,10 @@ class TableCreate(BaseModel):
 
     game: GameName
     mode: Mode = Mode.MATCH
-    race_to: Annotated[int, Field(ge=1, le=15)] = 1
-    shot_clock: Annotated[int, Field(ge=0, le=300)] = 0
+    race_to: RaceTo = 1
+    shot_clock: ShotClock = 0
     private: bool = False
     bot: BotName = BotName.PICKER
-
-    @field_validator("shot_clock")
-    @classmethod
-    def _clock_or_none(cls, seconds: int) -> int:
-        if 0 < seconds < MIN_SHOT_CLOCK:
-            raise ValueError(f"a shot clock is 0 (none) or at least {MIN_SHOT_CLOCK} s")
-        return seconds
 
     def options(self) -> TableOptions:
         return TableOptions(race_to=self.race_to, shot_clock=self.shot_clock, private=self.private)
@@ -208,7 +213,7 @@ class QuickStatus(BaseModel):
 class Intent(BaseModel):
     model_config = _REQUEST
 
-    version: Annotated[int, Field(ge=0)]
+    version: json_int(0)
     shot_id: ShotId
     input: PlayerInput
 

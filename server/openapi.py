@@ -35,7 +35,7 @@ def _refusals(route: Route) -> dict[str, Any]:
     if route.auth:
         codes.add(ErrorCode.UNAUTHORIZED)
     if route.body is not None:
-        codes |= {ErrorCode.BAD_REQUEST, ErrorCode.BODY_TOO_LARGE}
+        codes |= {ErrorCode.BAD_REQUEST, ErrorCode.BODY_TOO_LARGE, ErrorCode.ILLEGAL_INPUT}
         codes.add(ErrorCode.UNSUPPORTED_MEDIA_TYPE)
     by_status: dict[int, list[str]] = {}
     for code in sorted(codes):
