@@ -28,11 +28,13 @@ from server.api_models import (
     Mode,
     PlayerCreate,
     PlayerInfo,
+    PlayerRatings,
     PlayerToken,
     PresenceMessage,
     QuickMessageRequest,
     QuickRequest,
     QuickStatus,
+    RatingView,
     Status,
     TableCreate,
     TableList,
@@ -127,6 +129,18 @@ async def register(request: web.Request) -> web.Response:
 
 async def me(request: web.Request) -> web.Response:
     return answer(await player_of(request))
+
+
+async def player_ratings(request: web.Request) -> web.Response:
+    storage = service_of(request).storage
+    player = await storage.get_player(request.match_info["player"])
+    if player is None:
+        raise ServiceError(ErrorCode.NOT_FOUND, "no such player")
+    views = {
+        game: RatingView(**rating.model_dump(), provisional=rating.provisional)
+        for game, rating in (await storage.ratings(player.id)).items()
+    }
+    return answer(PlayerRatings(player=player, ratings=views))
 
 
 # ----- tables ---------------------------------------------------------------------------------
@@ -315,6 +329,9 @@ ROUTES: tuple[Route, ...] = (
     Route("POST", "/api/players", register, "A guest identity and its token", {201: PlayerToken},
           PlayerCreate, auth=False, refusals=(ErrorCode.NAME_TAKEN,)),
     Route("GET", "/api/me", me, "The player a token names", {200: PlayerInfo}),
+    Route("GET", "/api/players/{player:p_[0-9a-f]{16}}/ratings", player_ratings,
+          "A player's rating in each game", {200: PlayerRatings}, auth=False,
+          refusals=(ErrorCode.NOT_FOUND,)),
     Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate),
     Route("GET", "/api/tables", list_tables, "Open and live public tables", {200: TableList},
           auth=False),

@@ -116,6 +116,25 @@ class PlayerToken(BaseModel):
     expires_at: int = Field(description="unix time after which the token is refused")
 
 
+class RatingView(BaseModel):
+    """A Glicko-2 rating (server/ratings.py), provisional while its deviation exceeds 110."""
+
+    model_config = _ANSWER
+
+    rating: float
+    deviation: float
+    volatility: float
+    games: int
+    provisional: bool
+
+
+class PlayerRatings(BaseModel):
+    model_config = _ANSWER
+
+    player: PlayerInfo
+    ratings: dict[str, RatingView] = Field(description="by game; a game never played is absent")
+
+
 # ----- tables ---------------------------------------------------------------------------------
 class TableOptions(BaseModel):
     model_config = _REQUEST

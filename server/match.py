@@ -35,17 +35,20 @@ from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 
 from rules.inputs import Choice
-from server import refereeing, tables
+from server import ratings, refereeing, tables
 from server.api_models import (
     InputKind,
     Intent,
     IntentAccepted,
     IntentDuplicate,
+    Mode,
     PlayerInfo,
+    Status,
     TableMessage,
 )
 from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
+from server.ratings import Rating
 from server.storage import AcceptResult, Storage
 from server.tables import InputEntry, TableRecord
 from server.workers import WorkerPool
@@ -210,8 +213,25 @@ class MatchOwner:
         stored = entry.model_copy(update={"outcome": outcome})
         if await context.storage.resolve(after, stored):
             await context.publisher.publish(record.channel, outcome)
-            if after.status is not record.status:
-                context.on_listing_change()
+            await self._status_changed(record, after)
+
+    async def _status_changed(self, before: TableRecord, after: TableRecord) -> None:
+        """Tell the lobby, and rate a match between two people that has just been decided."""
+        if after.listed != before.listed or after.status is not before.status:
+            self._context.on_listing_change()
+        decided = before.status is Status.PLAYING and after.status is Status.OVER
+        if not decided or after.mode is not Mode.MATCH or after.winner is None:
+            return
+        people = [p for p in after.seats if p is not None and not tables.is_bot(p)]
+        if len(people) != 2:
+            return
+        storage = self._context.storage
+        current = [(await storage.ratings(p.id)).get(after.game, Rating()) for p in people]
+        winner = after.winner
+        won, lost = ratings.after_match(current[winner], current[1 - winner])
+        await storage.rate(
+            after.id, after.game, {people[winner].id: won, people[1 - winner].id: lost}
+        )
 
     async def _change(self, change: Change, done: asyncio.Future) -> None:
         try:
@@ -231,8 +251,7 @@ class MatchOwner:
         seen = await self._context.storage.heartbeats(after.id)
         message = TableMessage(version=after.version, view=tables.view(after, seen))
         await self._context.publisher.publish(after.channel, message)
-        if after.listed != record.listed or after.status is not record.status:
-            self._context.on_listing_change()
+        await self._status_changed(record, after)
         done.set_result(after)
         self._enqueue(self._look)
 

@@ -30,7 +30,9 @@ What a backend must guarantee
    `online_players` counts unexpired claims.
 8. **Heartbeats** are kept per table and seat, outside the versioned record: a heartbeat
    never conflicts with an input.
-9. **Atomic pairing.** `pair` either takes one other player waiting for the same game off the
+9. **Ratings once per match.** `rate` stores a table's rating changes at most once, however
+   many replicas report the same finished match.
+10. **Atomic pairing.** `pair` either takes one other player waiting for the same game off the
    queue and records both as paired at the given table (returning the partner), or queues the
    caller; a player is in at most one queue once, never paired twice by one call sequence,
    and never paired with itself. `quick_status` and `cancel_quick` read and leave the queue.
@@ -43,6 +45,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from server.api_models import PlayerInfo, QuickStatus
+from server.ratings import Rating
 from server.tables import InputEntry, TableRecord
 
 
@@ -122,6 +125,16 @@ class Storage(ABC):
 
     @abstractmethod
     async def listed_tables(self, limit: int) -> list[TableRecord]: ...
+
+    # ----- ratings ----------------------------------------------------------------------
+    @abstractmethod
+    async def ratings(self, player_id: str) -> dict[str, Rating]:
+        """The player's rating in each game it has a rated match in."""
+
+    @abstractmethod
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
+        """Store new ratings for `game` once per table: False (nothing stored) if this table's
+        result was already rated."""
 
     # ----- quick match ------------------------------------------------------------------
     @abstractmethod

@@ -8,6 +8,7 @@ replica sends it. Keys, all prefixed `game:`:
 - `h:{id}` the heartbeats of its seats; `listed` a sorted set of listed tables by creation;
   `deadlines` a sorted set of tables by shot-clock deadline;
 - `p:{id}` players; `n:{key}` name claims (expiring) and `online` the claims by expiry;
+- `r:{player}` a hash game -> rating, `rated` the set of tables whose result was rated;
 - `q:{game}` the quick-match queues and `qs:{player}` each player's quick-match status.
 """
 
@@ -17,6 +18,7 @@ import redis.asyncio as aioredis
 from redis.exceptions import RedisError
 
 from server.api_models import PlayerInfo, QuickStatus
+from server.ratings import Rating
 from server.storage import (
     Accepted,
     AcceptResult,
@@ -100,6 +102,14 @@ redis.call('SET', KEYS[2], ARGV[2])
 return false
 """
 
+# KEYS: rated set, then one ratings hash per player. ARGV: table id, game, then one rating
+# document per player.
+_RATE = """
+if redis.call('SADD', KEYS[1], ARGV[1]) == 0 then return 0 end
+for i = 2, #KEYS do redis.call('HSET', KEYS[i], ARGV[2], ARGV[i + 1]) end
+return 1
+"""
+
 # KEYS: caller's status. ARGV: player.
 _CANCEL = """
 local status = redis.call('GET', KEYS[1])
@@ -119,6 +129,7 @@ class RedisStorage(Storage):
         self._claim = self._redis.register_script(_CLAIM)
         self._pair = self._redis.register_script(_PAIR)
         self._cancel = self._redis.register_script(_CANCEL)
+        self._rate = self._redis.register_script(_RATE)
 
     @classmethod
     async def open(cls, url: str) -> RedisStorage:
@@ -231,6 +242,16 @@ class RedisStorage(Storage):
                 pipe.hget(f"{P}t:{table_id}", "doc")
             docs = await pipe.execute()
         return [TableRecord.model_validate_json(doc) for doc in docs if doc]
+
+    # ----- ratings ----------------------------------------------------------------------
+    async def ratings(self, player_id: str) -> dict[str, Rating]:
+        docs = await self._redis.hgetall(f"{P}r:{player_id}")
+        return {game: Rating.model_validate_json(doc) for game, doc in docs.items()}
+
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
+        keys = [f"{P}rated", *(f"{P}r:{player}" for player in ratings)]
+        args = [table_id, game, *(rating.model_dump_json() for rating in ratings.values())]
+        return bool(await self._rate(keys=keys, args=args))
 
     # ----- quick match ------------------------------------------------------------------
     async def pair(self, game: str, player_id: str, table_id: str) -> str | None:

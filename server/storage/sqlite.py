@@ -18,6 +18,7 @@ from pathlib import Path
 import aiosqlite
 
 from server.api_models import PlayerInfo, QuickStatus
+from server.ratings import Rating
 from server.storage import (
     Accepted,
     AcceptResult,
@@ -42,6 +43,9 @@ CREATE TABLE IF NOT EXISTS inputs (
 CREATE TABLE IF NOT EXISTS heartbeats (
     table_id TEXT NOT NULL, seat INTEGER NOT NULL, seen REAL NOT NULL,
     PRIMARY KEY (table_id, seat));
+CREATE TABLE IF NOT EXISTS ratings (
+    player TEXT NOT NULL, game TEXT NOT NULL, doc TEXT NOT NULL, PRIMARY KEY (player, game));
+CREATE TABLE IF NOT EXISTS rated (table_id TEXT PRIMARY KEY);
 CREATE TABLE IF NOT EXISTS quick (
     player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL);
 """
@@ -237,6 +241,30 @@ class SqliteStorage(Storage):
         ):
             rows = await cursor.fetchall()
         return [TableRecord.model_validate_json(row[0]) for row in rows]
+
+    # ----- ratings ----------------------------------------------------------------------
+    async def ratings(self, player_id: str) -> dict[str, Rating]:
+        async with (
+            self._lock,
+            self._db.execute(
+                "SELECT game, doc FROM ratings WHERE player = ?", (player_id,)
+            ) as cursor,
+        ):
+            rows = await cursor.fetchall()
+        return {game: Rating.model_validate_json(doc) for game, doc in rows}
+
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
+        async with self._transaction() as db:
+            try:
+                await db.execute("INSERT INTO rated VALUES (?)", (table_id,))
+            except aiosqlite.IntegrityError:
+                return False
+            for player, rating in ratings.items():
+                await db.execute(
+                    "INSERT OR REPLACE INTO ratings VALUES (?, ?, ?)",
+                    (player, game, rating.model_dump_json()),
+                )
+            return True
 
     # ----- quick match ------------------------------------------------------------------
     async def pair(self, game: str, player_id: str, table_id: str) -> str | None:
