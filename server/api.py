@@ -21,10 +21,14 @@ from redis.exceptions import RedisError
 from server import tables
 from server.api_models import (
     ApiError,
+    BreakEntry,
     ChatMessage,
+    ClaimRequest,
+    ClaimVerdict,
     Intent,
     IntentAccepted,
     IntentDuplicate,
+    Leaderboard,
     Mode,
     PlayerCreate,
     PlayerInfo,
@@ -35,6 +39,7 @@ from server.api_models import (
     QuickRequest,
     QuickStatus,
     RatingView,
+    ReplayView,
     Status,
     TableCreate,
     TableList,
@@ -51,9 +56,13 @@ from server.tables import TableRecord
 
 #: Largest request body accepted (bytes): an intent is a few hundred.
 MAX_BODY = 16 * 1024
+#: Largest claim body (bytes): a long game's record (rules.record.MAX_INPUTS inputs).
+MAX_RECORD_BODY = 1024 * 1024
 #: Seconds between two quick messages of one player at one table.
 CHAT_INTERVAL = 2.0
 TABLE_ID = r"{table:[0-9a-f]{20}}"
+GAME = r"{game:nineball|eightball|snooker|three_cushion}"
+NAME = r"{name:[A-Za-z0-9_. \-]{1,24}}"
 
 M = TypeVar("M", bound=BaseModel)
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
@@ -69,6 +78,7 @@ class Route:
     body: type[BaseModel] | None = None
     auth: bool = True
     refusals: tuple[ErrorCode, ...] = field(default=())
+    max_body: int = MAX_BODY
 
 
 def service_of(request: web.Request) -> Service:
@@ -87,13 +97,15 @@ def refusal(error: ServiceError) -> web.Response:
     )
 
 
-async def parse(request: web.Request, model: type[M]) -> M:
+async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> M:
     """The request's body as `model`; ServiceError for anything else."""
     if media_type(request.content_type) != JSON:
         raise ServiceError(ErrorCode.UNSUPPORTED_MEDIA_TYPE, "send application/json")
-    data = await request.content.read(MAX_BODY + 1)
-    if len(data) > MAX_BODY:
-        raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies are at most {MAX_BODY} bytes")
+    data = bytearray()
+    while chunk := await request.content.read(limit + 1 - len(data)):
+        data += chunk
+        if len(data) > limit:
+            raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies here are at most {limit} bytes")
     try:
         return model.model_validate_json(data, strict=True)
     except ValidationError as error:
@@ -305,6 +317,31 @@ async def quick_message(request: web.Request) -> web.Response:
     return answer(message, 201)
 
 
+# ----- replays and the leaderboard -------------------------------------------------------------
+async def get_replay(request: web.Request) -> web.Response:
+    replay = await service_of(request).storage.get_replay(request.match_info["replay"])
+    if replay is None:
+        raise ServiceError(ErrorCode.NOT_FOUND, "no such replay")
+    return answer(replay)
+
+
+async def leaderboard(request: web.Request) -> web.Response:
+    return answer(await service_of(request).breaks.top(request.match_info["game"]))
+
+
+async def best_break(request: web.Request) -> web.Response:
+    game, name = request.match_info["game"], request.match_info["name"]
+    entry = await service_of(request).storage.best_break(game, name)
+    if entry is None:
+        raise ServiceError(ErrorCode.NOT_FOUND, f"no {game} break under {name!r}")
+    return answer(entry)
+
+
+async def claim_break(request: web.Request) -> web.Response:
+    claim = await parse(request, ClaimRequest, MAX_RECORD_BODY)
+    return answer(await service_of(request).breaks.claim(claim), 201)
+
+
 # ----- quick match ----------------------------------------------------------------------------
 async def quick(request: web.Request) -> web.Response:
     player = await player_of(request)
@@ -355,6 +392,17 @@ ROUTES: tuple[Route, ...] = (
           refusals=_TABLE_REFUSALS),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},
           QuickMessageRequest, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
+    Route("GET", "/api/replays/{replay:[0-9a-f]{24}}", get_replay, "A rack's replay",
+          {200: ReplayView}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
+    Route("GET", f"/api/leaderboard/{GAME}", leaderboard, "A game's highest breaks",
+          {200: Leaderboard}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
+    Route("GET", f"/api/leaderboard/{GAME}/players/{NAME}", best_break,
+          "A name's best break in a game", {200: BreakEntry}, auth=False,
+          refusals=(ErrorCode.NOT_FOUND,)),
+    Route("POST", "/api/leaderboard/claims", claim_break, "Claim a break from a game record",
+          {201: ClaimVerdict}, ClaimRequest, auth=False, max_body=MAX_RECORD_BODY,
+          refusals=(ErrorCode.ILLEGAL_INPUT, ErrorCode.CLAIM_MISMATCH, ErrorCode.DUPLICATE,
+                    ErrorCode.RATE_LIMITED)),
     Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest),
     Route("GET", "/api/quick", quick_status, "Where my quick match stands", {200: QuickStatus}),
     Route("DELETE", "/api/quick", quick_cancel, "Stop waiting", {200: QuickStatus}),

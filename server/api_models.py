@@ -16,6 +16,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StringConstr
 from physics.trajectory import Event
 from rules.inputs import PlayerInput
 from rules.racks import GameName
+from rules.record import GameRecord
 from rules.state import Decision, Region, State
 from server.errors import ErrorCode
 
@@ -258,6 +259,83 @@ class QuickMessageRequest(BaseModel):
     message: QuickText
 
 
+# ----- replays and the leaderboard ------------------------------------------------------------
+ReplayId = Annotated[str, StringConstraints(pattern=r"^[0-9a-f]{24}$")]
+
+
+class Source(StrEnum):
+    MATCH = "match"
+    PRACTICE = "practice"
+    CLAIM = "claim"
+
+
+class ReplayView(BaseModel):
+    """One finished rack (or frame, or game) as a record anyone can replay."""
+
+    model_config = _ANSWER
+
+    id: ReplayId
+    url: str = Field(description="the replay's page")
+    table: TableId | None
+    rack: int
+    game: GameName
+    players: list[PlayerInfo | None] = Field(description="the record's player 0 (the breaker), 1")
+    best: tuple[int, int] = Field(description="each player's best break in it")
+    record: GameRecord
+    created: float
+
+
+class BreakEntry(BaseModel):
+    """One break on the leaderboard."""
+
+    model_config = _ANSWER
+
+    game: GameName
+    score: int
+    name: str
+    player: str | None = Field(default=None, description="the player's id (online breaks)")
+    replay: ReplayId | None = None
+    source: Source
+    at: float
+
+
+class Leaderboard(BaseModel):
+    model_config = _ANSWER
+
+    game: GameName
+    breaks: list[BreakEntry]
+
+
+class LeaderboardMessage(BaseModel):
+    """On `public-leaderboard`: a game's top breaks after a new entry."""
+
+    model_config = _ANSWER
+
+    kind: Literal["leaderboard"] = "leaderboard"
+    protocol: int = PROTOCOL
+    game: GameName
+    breaks: list[BreakEntry]
+
+
+class ClaimRequest(BaseModel):
+    """A break claimed from a game record (as `billiards selfplay --record` writes one)."""
+
+    model_config = _REQUEST
+
+    game: GameName = Field(description="the leaderboard the break is claimed on")
+    record: GameRecord
+    name: DisplayName
+    score: json_int(1, 10_000)
+
+
+class ClaimVerdict(BaseModel):
+    model_config = _ANSWER
+
+    accepted: bool
+    entry: BreakEntry
+    replay: ReplayView
+
+
 # ----- channel messages -----------------------------------------------------------------------
 #: One segment on the wire: [t, state, rx, ry, vx, vy, ax, ay, wx, wy, wz, dwx, dwy, dwz].
 WireSegment = tuple[
@@ -298,6 +376,7 @@ class OutcomeMessage(BaseModel):
     void: str | None = Field(
         default=None, description="why the accepted input could not be played (state unchanged)"
     )
+    replay: str | None = Field(default=None, description="the replay of the rack it ended")
 
 
 class TableMessage(BaseModel):

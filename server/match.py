@@ -48,6 +48,7 @@ from server.api_models import (
 )
 from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
+from server.leaderboard import Breaks
 from server.ratings import Rating
 from server.storage import AcceptResult, Storage
 from server.tables import InputEntry, TableRecord
@@ -75,6 +76,7 @@ class MatchContext:
     publisher: Publisher
     on_listing_change: Callable[[], None]
     replica: str
+    breaks: Breaks
 
 
 def duplicate(entry: InputEntry) -> IntentDuplicate:
@@ -209,11 +211,27 @@ class MatchOwner:
         except Exception as error:  # a bug in the engine or the referee: void, not stuck
             log.exception("table %s: refereeing %s failed", record.id, entry.shot_id)
             result = refereeing.Refereed(record.state, None, None, void=type(error).__name__)
-        after, outcome = tables.played(record, entry, result)
+        replay = None
+        if result.state.over:  # the rack ended: archive it before anyone hears of it
+            replay = await self._archive_rack(record, entry, result)
+        after, outcome = tables.played(record, entry, result, replay)
         stored = entry.model_copy(update={"outcome": outcome})
         if await context.storage.resolve(after, stored):
             await context.publisher.publish(record.channel, outcome)
             await self._status_changed(record, after)
+
+    async def _archive_rack(
+        self, record: TableRecord, last: InputEntry, result: refereeing.Refereed
+    ) -> str:
+        """Store the finished rack's replay and breaks; its replay id."""
+        earlier = [
+            e for e in await self._context.storage.inputs(record.id) if e.rack == record.rack
+        ]
+        decisions = [e.outcome.decision if e.outcome else None for e in earlier]
+        replay = await self._context.breaks.rack_finished(
+            record, [*earlier, last], [*decisions, result.decision], result.state
+        )
+        return replay.id
 
     async def _status_changed(self, before: TableRecord, after: TableRecord) -> None:
         """Tell the lobby, and rate a match between two people that has just been decided."""
@@ -316,6 +334,7 @@ def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEn
         seat=seat,
         input=action,
         version=record.version,
+        rack=record.rack,
         accepted_at=time.time(),
     )
 

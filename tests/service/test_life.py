@@ -130,7 +130,7 @@ async def test_a_decided_match_between_two_people_is_rated_once(server: TestClie
     await bob.call("POST", f"/api/tables/{view['id']}/resign", expect=200)
     await service_of(server).matches.idle()
     won = (await (await server.get(path)).json())["ratings"]["nineball"]
-    lost = (await (await server.get(f"/api/players/{bob.info['id']}/ratings")).json())
+    lost = await (await server.get(f"/api/players/{bob.info['id']}/ratings")).json()
     assert won["rating"] > 1500 > lost["ratings"]["nineball"]["rating"]
     assert won["games"] == 1 and won["provisional"]
     assert (await server.get("/api/players/p_0000000000000000/ratings")).status == 404

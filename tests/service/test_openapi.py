@@ -3,7 +3,8 @@
 One setting differs from schemathesis's defaults: a request that fits the schema may still be
 refused with `422 illegal_input`, because the referee judges what no schema can say (a tip
 offset past the miscue circle, a shot out of turn at this point of the game), so 422 joins
-the statuses that well-formed requests may get.
+the statuses that well-formed requests may get; and `413 body_too_large` counts as refusing
+a malformed request (an over-long array is both).
 """
 
 from __future__ import annotations
@@ -29,6 +30,11 @@ CONFIG = SchemathesisConfig.from_str(
     """
 [checks.positive_data_acceptance]
 expected-statuses = ["2xx", "3xx", "401", "403", "404", "409", "422", "429"]
+
+[checks.negative_data_rejection]
+expected-statuses = [
+    "400", "401", "403", "404", "405", "406", "409", "413", "415", "422", "428", "429",
+]
 """
 )
 schema = schemathesis.openapi.from_dict(openapi_document(), config=CONFIG)
