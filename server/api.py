@@ -2,13 +2,15 @@
 
 `ROUTES` is the single source for both the router and the OpenAPI description
 (server/openapi.py): each route names its request model and its answers by status. Bodies are
-JSON of at most `MAX_BODY` bytes, parsed straight into their pydantic model in strict mode
-(unknown fields, wrong types such as `"3.0"` or `true` for a number, NaN and over-deep nesting
-are refused there); every refusal is `ApiError` JSON.
+JSON of at most `MAX_BODY` bytes (claims: `MAX_RECORD_BODY`), parsed into their pydantic model
+in strict mode (unknown fields, wrong types such as `"3.0"` or `true` for a number, NaN and
+over-deep nesting are refused there); every refusal is `ApiError` JSON.
 """
 
 from __future__ import annotations
 
+import json
+import math
 import time
 from collections.abc import AsyncIterator, Awaitable, Callable
 from dataclasses import dataclass, field
@@ -107,7 +109,7 @@ async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> 
         if len(data) > limit:
             raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies here are at most {limit} bytes")
     try:
-        return model.model_validate_json(data, strict=True)
+        return model.model_validate_json(canonical_json(bytes(data)), strict=True)
     except ValidationError as error:
         first = error.errors()[0]
         where = ".".join(str(part) for part in first["loc"]) or "body"
@@ -115,6 +117,30 @@ async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> 
         # rules' refusal, not a malformed request.
         code = ErrorCode.ILLEGAL_INPUT if first["type"] == "value_error" else ErrorCode.BAD_REQUEST
         raise ServiceError(code, f"{where}: {first['msg']}") from None
+
+
+def _number(text: str) -> int | float:
+    """A JSON number: finite, and an integer when it has no fraction (8.0 is 8 in JSON Schema;
+    strict validation then takes it for an int field and, as 8, for a float field)."""
+    value = float(text)
+    if not math.isfinite(value):
+        raise ServiceError(ErrorCode.BAD_REQUEST, f"number {text[:20]} is out of range")
+    return int(value) if value.is_integer() and abs(value) < 2**63 else value
+
+
+def _no_constant(name: str) -> None:
+    raise ServiceError(ErrorCode.BAD_REQUEST, f"{name} is not a JSON number")
+
+
+def canonical_json(data: bytes) -> str:
+    """The body re-encoded with integral numbers as integers; BAD_REQUEST for what is not
+    JSON (NaN, infinities, invalid text, nesting too deep for a parser)."""
+    try:
+        value = json.loads(data, parse_float=_number, parse_constant=_no_constant)
+    except (ValueError, RecursionError) as error:
+        reason = "too deeply nested" if isinstance(error, RecursionError) else str(error)
+        raise ServiceError(ErrorCode.BAD_REQUEST, f"body is not JSON: {reason}") from None
+    return json.dumps(value, separators=(",", ":"))
 
 
 async def player_of(request: web.Request) -> PlayerInfo:

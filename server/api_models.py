@@ -11,7 +11,7 @@ from enum import StrEnum
 from typing import Annotated, Literal
 
 from annotated_types import Interval
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StringConstraints
+from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
 from physics.trajectory import Event
 from rules.inputs import PlayerInput
@@ -24,14 +24,9 @@ from server.errors import ErrorCode
 PROTOCOL = 1
 
 
-def _integral(value: object) -> object:
-    """8.0 is the integer 8 in JSON (and JSON Schema); `true` and `"8"` stay refused."""
-    return int(value) if isinstance(value, float) and value.is_integer() else value
-
-
 def json_int(low: int, high: int | None = None) -> object:
-    """An integer of a request in [low, high], parsed strictly (requests are strict)."""
-    return Annotated[int, Interval(ge=low, le=high), BeforeValidator(_integral)]
+    """An integer of a request in [low, high] (as JSON Schema bounds it)."""
+    return Annotated[int, Interval(ge=low, le=high)]
 
 
 #: Seconds per shot: 0 for no clock, else 10 to 300.

@@ -1,10 +1,12 @@
-"""`billiards play` and `billiards watch`: a whole match, or a table's outcomes, from a terminal.
+"""`billiards play`, `watch` and `submit`: a match, a table's outcomes, a claimed break.
 
 Both talk to a server only through its public API (server/client.py). `play` registers a
 guest, gets a table (quick match, a new table, a private link, practice or the bot), then
 plays every shot its seat is to play with a shot chooser (`--bot picker`: the rules' shot
 pickers) and prints each outcome as it arrives, one line each, until the match is over.
-Exit status 0 when the match ended, 2 with one line when the server refused something.
+`submit` sends a game record (as `billiards selfplay --record` writes it), a name and the
+claimed score to the leaderboard, and prints the verdict. Exit status 0 on success, 2 with one
+line when the server refused something (a claim that does not hold says why).
 """
 
 from __future__ import annotations
@@ -121,6 +123,34 @@ async def watch(args: argparse.Namespace) -> int:
     return 0
 
 
+async def submit(args: argparse.Namespace) -> int:
+    """Claim a break from a game record file; print the server's verdict."""
+    import json
+    from pathlib import Path
+
+    import aiohttp
+
+    from server.api_models import ClaimVerdict
+    from server.client import GameClient, Refused
+
+    try:
+        record = json.loads(Path(args.record).read_text())
+        game = args.game or record["setup"]["game"]
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        raise Refused(0, "unreadable_record", f"{args.record}: {error}") from None
+    async with aiohttp.ClientSession() as session:
+        client = GameClient(args.url, session)
+        body = {"game": game, "record": record, "name": args.name, "score": args.score}
+        _, answer = await client.request("POST", "/api/leaderboard/claims", body)
+    verdict = ClaimVerdict.model_validate(answer)
+    entry = verdict.entry
+    print(
+        f"accepted: {entry.game} break of {entry.score} by {entry.name}, "
+        f"replay {client.base}{verdict.replay.url}"
+    )
+    return 0
+
+
 def _run(
     command: Callable[[argparse.Namespace], Awaitable[int]],
 ) -> Callable[[argparse.Namespace], int]:
@@ -153,6 +183,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--bot", choices=CHOOSERS, default="picker", help="shot chooser")
     parser.add_argument("--name", help="display name (default: cli-<random>)")
     parser.set_defaults(func=_run(play))
+
+    parser = subparsers.add_parser("submit", help="claim a leaderboard break from a record")
+    parser.add_argument("url", help="the server, e.g. http://127.0.0.1:8080")
+    parser.add_argument("record", help="a game record file (billiards selfplay --record)")
+    parser.add_argument("--name", required=True, help="the name the break goes under")
+    parser.add_argument("--score", type=int, required=True, help="the claimed best break")
+    parser.add_argument("--game", help="the leaderboard (default: the record's game)")
+    parser.set_defaults(func=_run(submit))
 
     parser = subparsers.add_parser("watch", help="print a table's outcomes as they come")
     parser.add_argument("url", help="the server, e.g. http://127.0.0.1:8080")

@@ -1,12 +1,15 @@
-"""`billiards play` and `billiards watch` as processes against a running server."""
+"""`billiards play`, `watch` and `submit` as processes against a running server."""
 
 from __future__ import annotations
 
 import asyncio
 import sys
+from pathlib import Path
 
 from aiohttp.test_utils import TestClient
 
+from rules.record import GameRecord, replay
+from server.refereeing import best_visits
 from tests.service.conftest import WAIT_S
 
 BILLIARDS = [sys.executable, "-m", "server.cli"]
@@ -45,3 +48,25 @@ async def test_a_refusal_exits_2_with_one_line(server: TestClient) -> None:
     assert code == 2 and err.strip() == "refused: not_found: no such table"
     code, _, err = await finish(await run("watch", "http://127.0.0.1:1", "f" * 20))
     assert code == 2 and len(err.strip().splitlines()) == 1
+
+
+async def test_submit_prints_the_verdict_or_the_reason(server: TestClient, tmp_path: Path) -> None:
+    url = str(server.make_url("")).rstrip("/")
+    record_path = tmp_path / "game.json"
+    for seed in range(1, 30):
+        code, _, err = await finish(
+            await run("selfplay", "nineball", "--seed", str(seed), "--record", str(record_path))
+        )
+        assert code == 0, err
+        record = GameRecord.from_json(record_path.read_text())
+        played = replay(record)
+        best = max(best_visits("nineball", [s.decision for s in played.steps], played.final))
+        if best > 0:
+            break
+    args = ("submit", url, str(record_path), "--name", "Cy")
+    code, _, err = await finish(await run(*args, "--score", str(best + 1)))
+    assert code == 2 and err.strip() == (
+        f"refused: claim_mismatch: the record's best break is {best}, not {best + 1}"
+    )
+    code, lines, _ = await finish(await run(*args, "--score", str(best)))
+    assert code == 0 and lines[0].startswith(f"accepted: nineball break of {best} by Cy")
