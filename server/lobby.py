@@ -13,11 +13,10 @@ creates the table for both; nobody is seated twice and no table gets a third pla
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 import secrets
 import time
-from collections.abc import AsyncIterator
+from contextlib import AbstractAsyncContextManager
 
 from server import tables
 from server.api_models import (
@@ -29,6 +28,7 @@ from server.api_models import (
     TableList,
     TableSummary,
 )
+from server.background import running
 from server.channels import LOBBY, Publisher, player_channel
 from server.errors import ErrorCode, ServiceError
 from server.storage import Storage
@@ -61,16 +61,9 @@ class Lobby:
         """Something the lobby shows changed: a snapshot goes out within `BATCH` seconds."""
         self._dirty.set()
 
-    @contextlib.asynccontextmanager
-    async def running(self) -> AsyncIterator[None]:
+    def running(self) -> AbstractAsyncContextManager[None]:
         """Publish batched snapshots while the context is open."""
-        task = asyncio.create_task(self._run())
-        try:
-            yield
-        finally:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+        return running(self._run)
 
     async def _run(self) -> None:
         while True:

@@ -199,16 +199,21 @@ def grace_until(record: TableRecord, seen: Seen, now: float) -> tuple[float | No
     return until[0], until[1]
 
 
+def _listing(record: TableRecord, spectators: int) -> dict[str, object]:
+    """What a lobby summary and a full view both say about a table."""
+    return {
+        "id": record.id,
+        "game": record.game,
+        "mode": record.mode,
+        "status": record.status,
+        "seats": list(record.seats),
+        "options": record.options,
+        "spectators": spectators,
+    }
+
+
 def summary(record: TableRecord, spectators: int = 0) -> TableSummary:
-    return TableSummary(
-        id=record.id,
-        game=record.game,
-        mode=record.mode,
-        status=record.status,
-        seats=list(record.seats),
-        options=record.options,
-        spectators=spectators,
-    )
+    return TableSummary(**_listing(record, spectators))
 
 
 def view(
@@ -216,13 +221,8 @@ def view(
 ) -> TableView:
     """The full state a client starts from (`GET /api/tables/{id}`)."""
     return TableView(
-        id=record.id,
+        **_listing(record, spectators),
         channel=record.channel,
-        game=record.game,
-        mode=record.mode,
-        options=record.options,
-        status=record.status,
-        seats=list(record.seats),
         version=record.version,
         rack=record.rack,
         racks_won=record.racks_won,
@@ -230,7 +230,6 @@ def view(
         next=constraints(record),
         last_outcome=record.last_outcome,
         presence=presence(record, seen, time.time() if now is None else now),
-        spectators=spectators,
         winner=record.winner,
         rematch=record.rematch,
         rematch_table=record.rematch_table,

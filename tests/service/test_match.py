@@ -3,18 +3,37 @@
 from __future__ import annotations
 
 import json
+import time
 from typing import Any
 
 from aiohttp.test_utils import TestClient
 
+from rules.inputs import Shot
 from rules.pickers import pick
 from rules.state import State
+from server.match import LEASE
+from server.storage import Storage
+from server.tables import InputEntry
 from tests.service.conftest import Player, register, watch
 
 
 def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
     """The shot pickers' input for a published state (a client choosing its shot)."""
     return pick(State.model_validate(view_or_outcome["state"])).model_dump(mode="json")
+
+
+async def abandon_input(storage: Storage, view: dict[str, Any], shot_id: str) -> None:
+    """Store an accepted, unplayed input as a replica that died a lease ago left it."""
+    record = await storage.get_table(view["id"])
+    entry = InputEntry(
+        shot_id=shot_id,
+        seat=0,
+        input=Shot.model_validate(picked(view)),
+        version=record.version,
+        accepted_at=time.time() - LEASE - 1,
+        replica="a-replica-that-died",
+    )
+    await storage.accept(record.model_copy(update={"pending": entry}))
 
 
 async def seated_match(

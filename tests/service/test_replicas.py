@@ -16,12 +16,9 @@ from typing import Any
 import aiohttp
 import pytest
 
-from rules.inputs import Shot
-from server.match import LEASE
 from server.storage.redis import RedisStorage
-from server.tables import InputEntry
 from tests.redis_server import free_port
-from tests.service.test_match import picked
+from tests.service.test_match import abandon_input, picked
 
 SECRET = "replica-test-secret-0123456789"
 START_TIMEOUT_S = 30.0
@@ -91,19 +88,27 @@ async def call(
         return response.status, await response.json()
 
 
-async def test_two_replicas_referee_each_shot_exactly_once(
+async def seat_across(
     replicas: list[Replica], http: aiohttp.ClientSession
-) -> None:
+) -> tuple[str, str, dict, dict, dict]:
+    """Ada on replica A creates a nine-ball table, Bob on replica B joins it."""
     for replica in replicas:
         await replica.wait_ready(http)
     a, b = (replica.url for replica in replicas)
     _, ada = await call(http, "POST", f"{a}/api/players", body={"name": "Ada"})
     _, bob = await call(http, "POST", f"{b}/api/players", body={"name": "Bob"})
-    status, _ = await call(http, "POST", f"{b}/api/players", body={"name": "ada"})
-    assert status == 409  # one name space across replicas
     _, table = await call(http, "POST", f"{a}/api/tables", ada["token"], {"game": "nineball"})
     status, view = await call(http, "POST", f"{b}/api/tables/{table['id']}/join", bob["token"])
     assert status == 200 and view["status"] == "playing"
+    return a, b, ada, bob, view
+
+
+async def test_two_replicas_referee_each_shot_exactly_once(
+    replicas: list[Replica], http: aiohttp.ClientSession
+) -> None:
+    a, b, ada, bob, view = await seat_across(replicas, http)
+    status, _ = await call(http, "POST", f"{b}/api/players", body={"name": "ada"})
+    assert status == 409  # one name space across replicas
     feeds = [
         await http.ws_connect(f"{url}/sub/{view['channel']}", protocols=("ws+meta.nchan",))
         for url in (a, b)
@@ -143,29 +148,14 @@ async def test_two_replicas_referee_each_shot_exactly_once(
 async def test_a_dead_replica_stalls_no_match(
     replicas: list[Replica], http: aiohttp.ClientSession, redis_url: str
 ) -> None:
-    for replica in replicas:
-        await replica.wait_ready(http)
-    a, b = (replica.url for replica in replicas)
-    _, ada = await call(http, "POST", f"{a}/api/players", body={"name": "Ada"})
-    _, bob = await call(http, "POST", f"{b}/api/players", body={"name": "Bob"})
-    _, table = await call(http, "POST", f"{a}/api/tables", ada["token"], {"game": "nineball"})
-    _, view = await call(http, "POST", f"{b}/api/tables/{table['id']}/join", bob["token"])
+    _, b, ada, bob, view = await seat_across(replicas, http)
     replicas[0].process.kill()  # replica A dies; B carries on alone
 
     # An input A had accepted but not played (stored as A would have stored it) is played by
     # B once the lease has run out, on the next request B serves for the table.
     storage = await RedisStorage.open(redis_url)
     try:
-        record = await storage.get_table(view["id"])
-        entry = InputEntry(
-            shot_id="accepted-by-a",
-            seat=0,
-            input=Shot.model_validate(picked(view)),
-            version=record.version,
-            accepted_at=time.time() - LEASE - 1,
-            replica="replica-a",
-        )
-        await storage.accept(record.model_copy(update={"pending": entry}))
+        await abandon_input(storage, view, "accepted-by-a")
     finally:
         await storage.close()
     feed = await http.ws_connect(f"{b}/sub/{view['channel']}", protocols=("ws+meta.nchan",))
