@@ -60,8 +60,6 @@ from server.tables import TableRecord
 MAX_BODY = 16 * 1024
 #: Largest claim body (bytes): a long game's record (rules.record.MAX_INPUTS inputs).
 MAX_RECORD_BODY = 1024 * 1024
-#: Seconds between two quick messages of one player at one table.
-CHAT_INTERVAL = 2.0
 TABLE_ID = r"{table:[0-9a-f]{20}}"
 GAME = r"{game:nineball|eightball|snooker|three_cushion}"
 NAME = r"{name:[A-Za-z0-9_. \-]{1,24}}"
@@ -162,7 +160,9 @@ async def full_view(service: Service, record: TableRecord) -> TableView:
 # ----- identity -------------------------------------------------------------------------------
 async def register(request: web.Request) -> web.Response:
     create = await parse(request, PlayerCreate)
-    return answer(await service_of(request).identity.register(create.name), 201)
+    service = service_of(request)
+    service.throttle("register", request.remote or "")
+    return answer(await service.identity.register(create.name), 201)
 
 
 async def me(request: web.Request) -> web.Response:
@@ -186,6 +186,7 @@ async def create_table(request: web.Request) -> web.Response:
     player = await player_of(request)
     create = await parse(request, TableCreate)
     service = service_of(request)
+    service.throttle("create", player.id)
     record = tables.new_table(new_table_id(), create, player, new_seed())
     await service.storage.create_table(record)
     service.lobby.changed()
@@ -329,10 +330,7 @@ async def quick_message(request: web.Request) -> web.Response:
     body = await parse(request, QuickMessageRequest)
     service = service_of(request)
     record = await table_of(request)
-    now, key = time.time(), (record.id, player.id)
-    if now - service.chatted.get(key, 0.0) < CHAT_INTERVAL:
-        raise ServiceError(ErrorCode.RATE_LIMITED, f"one message per {CHAT_INTERVAL:g} s")
-    service.chatted[key] = now
+    service.throttle("chat", f"{record.id}:{player.id}")
     message = ChatMessage(
         version=record.version,
         from_name=player.name,
@@ -372,7 +370,9 @@ async def claim_break(request: web.Request) -> web.Response:
 async def quick(request: web.Request) -> web.Response:
     player = await player_of(request)
     body = await parse(request, QuickRequest)
-    return answer(await service_of(request).lobby.quick(player, TableCreate(game=body.game)))
+    service = service_of(request)
+    service.throttle("quick", player.id)
+    return answer(await service.lobby.quick(player, TableCreate(game=body.game)))
 
 
 async def quick_status(request: web.Request) -> web.Response:
@@ -390,12 +390,13 @@ _TABLE_REFUSALS = (ErrorCode.NOT_FOUND, ErrorCode.FORBIDDEN, ErrorCode.WRONG_PHA
 _T = f"/api/tables/{TABLE_ID}"
 ROUTES: tuple[Route, ...] = (
     Route("POST", "/api/players", register, "A guest identity and its token", {201: PlayerToken},
-          PlayerCreate, auth=False, refusals=(ErrorCode.NAME_TAKEN,)),
+          PlayerCreate, auth=False, refusals=(ErrorCode.NAME_TAKEN, ErrorCode.RATE_LIMITED)),
     Route("GET", "/api/me", me, "The player a token names", {200: PlayerInfo}),
     Route("GET", "/api/players/{player:p_[0-9a-f]{16}}/ratings", player_ratings,
           "A player's rating in each game", {200: PlayerRatings}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
-    Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate),
+    Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate,
+          refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/tables", list_tables, "Open and live public tables", {200: TableList},
           auth=False),
     Route("GET", _T, get_table, "A table's full state (resync)", {200: TableView}, auth=False,
@@ -429,7 +430,8 @@ ROUTES: tuple[Route, ...] = (
           {201: ClaimVerdict}, ClaimRequest, auth=False, max_body=MAX_RECORD_BODY,
           refusals=(ErrorCode.ILLEGAL_INPUT, ErrorCode.CLAIM_MISMATCH, ErrorCode.DUPLICATE,
                     ErrorCode.RATE_LIMITED)),
-    Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest),
+    Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest,
+          refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/quick", quick_status, "Where my quick match stands", {200: QuickStatus}),
     Route("DELETE", "/api/quick", quick_cancel, "Stop waiting", {200: QuickStatus}),
 )  # fmt: skip

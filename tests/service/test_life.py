@@ -121,3 +121,11 @@ async def test_a_decided_match_between_two_people_is_rated_once(server: TestClie
     assert won["rating"] > 1500 > lost["ratings"]["nineball"]["rating"]
     assert won["games"] == 1 and won["provisional"]
     assert (await server.get("/api/players/p_0000000000000000/ratings")).status == 404
+
+
+async def test_what_a_client_makes_the_server_store_is_rate_limited(server: TestClient) -> None:
+    ada = await register(server, "Ada")
+    answers = [(await ada.call("POST", "/api/tables", {"game": "nineball"}))[0] for _ in range(25)]
+    assert 20 <= answers.count(201) <= 21 and answers[-1] == 429  # a burst of 20, then 1/s
+    listed = await (await server.get("/api/tables")).json()
+    assert len(listed["tables"]) == answers.count(201)
