@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import json
 import time
 from typing import Any
@@ -147,3 +148,28 @@ async def test_a_practice_table_plays_every_shot_from_seat_zero(server: TestClie
         assert outcome["version"] == ack["version"] and outcome["seat"] == 0
         view = await (await server.get(f"/api/tables/{view['id']}")).json()
         assert view["next"]["seat"] == 0
+
+
+async def test_every_game_plays_through_the_same_path(server: TestClient) -> None:
+    ada = await register(server, "Ada")
+    for game in ("eightball", "snooker", "three_cushion"):
+        view = await ada.create(game, mode="practice")
+        watcher = await watch(server, view["channel"])
+        for _ in range(3):
+            status, ack = await ada.shoot(view["id"], view["version"], picked(view))
+            assert status == 202, ack
+            outcome = await watcher.next_kind("outcome")
+            assert outcome["version"] == ack["version"] and outcome["void"] is None, game
+            assert outcome["state"]["game"] == game
+            view = await (await server.get(f"/api/tables/{view['id']}")).json()
+
+
+async def test_spectators_are_the_readers_who_are_not_seated(server: TestClient) -> None:
+    _, _, view = await seated_match(server)
+    watchers = [await watch(server, view["channel"]) for _ in range(3)]
+    for _ in range(100):
+        fresh = await (await server.get(f"/api/tables/{view['id']}")).json()
+        if fresh["spectators"] == 1:  # three readers, two of them count as the players
+            break
+        await asyncio.sleep(0.02)
+    assert fresh["spectators"] == 1 and len(watchers) == 3
