@@ -245,7 +245,7 @@ async def resign(request: web.Request) -> web.Response:
         if record.status is not Status.PLAYING:
             raise ServiceError(ErrorCode.WRONG_PHASE, f"the table is {record.status.value}")
         winner = None if record.mode is Mode.PRACTICE else 1 - seat
-        return tables.bump(record, status=Status.OVER, winner=winner, pending=None)
+        return tables.bump(record, status=Status.OVER, winner=winner)
 
     return await _change(request, give_up)
 
@@ -377,7 +377,7 @@ async def quick(request: web.Request) -> web.Response:
 
 async def quick_status(request: web.Request) -> web.Response:
     player = await player_of(request)
-    return answer(await service_of(request).storage.quick_status(player.id))
+    return answer(await service_of(request).lobby.quick_status(player))
 
 
 async def quick_cancel(request: web.Request) -> web.Response:

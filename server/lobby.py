@@ -98,7 +98,7 @@ class Lobby:
         table_id = new_table_id()
         partner_id = await self._storage.pair(create.game, player.id, table_id)
         if partner_id is None:
-            return await self._storage.quick_status(player.id)
+            return QuickStatus(status="waiting")
         partner = await self._storage.get_player(partner_id)
         if partner is None:
             raise ServiceError(ErrorCode.UNAVAILABLE, "the paired player vanished")
@@ -108,3 +108,11 @@ class Lobby:
             await self._publisher.publish(player_channel(who.id), PairedMessage(table=table_id))
         self.changed()
         return QuickStatus(status="paired", table=table_id)
+
+    async def quick_status(self, player: PlayerInfo) -> QuickStatus:
+        """Where the player's quick match stands; "paired" only once its table exists (the
+        partner's request creates it just after pairing)."""
+        status = await self._storage.quick_status(player.id)
+        if status.table is not None and await self._storage.get_table(status.table) is None:
+            return QuickStatus(status="waiting")
+        return status
