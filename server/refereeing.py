@@ -1,0 +1,207 @@
+"""Every call the game service makes into `rules`, in one place: the seam to the referees.
+
+The match owner checks an input here on the event loop (cheap: no physics), and the worker
+processes run `referee` and `bot_input` (the engine runs there, never on the event loop). What
+they return is picklable and already in wire form, so the event loop only stores and publishes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import physics
+from physics.trajectory import Shot as EngineShot
+from rules.game import REFEREES, Setup, choose, play, shot_position, start
+from rules.inputs import Choice, PlayerInput, Shot, Strike
+from rules.pickers import pick
+from rules.racks import GameName
+from rules.record import GameRecord, replay
+from rules.spots import in_region, is_free
+from rules.state import Decision, RuleError, State
+from server.api_models import InputKind, Trajectory, WireSegment
+
+#: Cue speed (m/s) of the stroke played when the shot clock runs out: it rolls about 1 cm.
+TIMEOUT_SPEED = 0.05
+#: Significant digits kept in a published trajectory (animation only; rest positions are exact).
+TRAJECTORY_DIGITS = 7
+
+__all__ = [
+    "Refereed",
+    "RuleError",
+    "bot_input",
+    "breaker_of",
+    "check",
+    "constraints",
+    "new_rack",
+    "referee",
+    "rule_code",
+    "timeout_input",
+    "verify",
+]
+
+
+@dataclass(frozen=True, slots=True)
+class Refereed:
+    """The result of playing one input: the new state, the decision and the motion (shots).
+
+    void: why an accepted input could not be played (the engine refused its scene); the state
+    is then unchanged.
+    """
+
+    state: State
+    decision: Decision | None
+    trajectory: Trajectory | None
+    void: str | None = None
+
+
+def breaker_of(game: GameName, breaker: int) -> int:
+    """Who really breaks when `breaker` should: in three-cushion each player's cue ball is
+    fixed by the rack (the breaker's white), so the rules' player 0 always breaks there."""
+    return 0 if game == "three_cushion" else breaker
+
+
+def new_rack(game: GameName, seed: int, breaker: int) -> State:
+    """The opening position of a rack, with `breaker` (a seat) to play the break.
+
+    The rules' player 0 breaks their racks; starting with `turn = breaker` makes seat 1 the
+    referee's breaker with everything else the same (pool's and snooker's rules treat both
+    players alike), so a rack's record replays with the players' numbers swapped.
+    """
+    breaker = breaker_of(game, breaker)
+    return start(Setup(game=game, seed=seed)).model_copy(update={"turn": breaker})
+
+
+def canonical(action: PlayerInput) -> PlayerInput:
+    """The input as the server will play and record it (the rules' canonical form)."""
+    return action
+
+
+def check(state: State, action: PlayerInput) -> None:
+    """RuleError if the player to act may not send `action` now (nothing is simulated)."""
+    if isinstance(action, Choice):
+        choose(state, action)
+    else:
+        shot_position(state, action)
+
+
+def rule_code(error: RuleError) -> str | None:
+    """The referee's code for a refusal, once the rules give one (None before)."""
+    code = getattr(error, "code", None)
+    return None if code is None else str(getattr(code, "value", code))
+
+
+def constraints(state: State) -> tuple[list[InputKind], str, str | None, list[str]]:
+    """(kinds, cue ball, ball-in-hand region, options) for the player to act in `state`."""
+    cue = REFEREES[state.game].cue_ball(state)
+    if state.pending:
+        return [InputKind.CHOICE], cue, None, list(state.pending)
+    return [InputKind.SHOT], cue, state.ball_in_hand, []
+
+
+def _round(x: float) -> float:
+    return float(f"{x:.{TRAJECTORY_DIGITS}g}")
+
+
+def wire_trajectory(shot: EngineShot) -> Trajectory:
+    """The engine's segments as compact arrays (see docs/protocol.md, the outcome message)."""
+    balls: dict[str, list[WireSegment]] = {}
+    for ball, segments in shot.trajectories.items():
+        balls[ball] = [
+            (_round(s.t), s.state, *map(_round, (*s.r, *s.v, *s.a, *s.w, *s.dw))) for s in segments
+        ]
+    return Trajectory(duration=shot.duration, events=shot.events, balls=balls)
+
+
+def referee(state: State, action: PlayerInput) -> Refereed:
+    """Simulate and judge one checked input (run in a worker process)."""
+    shots: list[EngineShot] = []
+
+    def simulate(scene: dict) -> dict:
+        shots.append(physics.simulate(scene))
+        return shots[-1].summary()
+
+    try:
+        new_state, decision = play(state, action, simulate)
+    except (RuleError, physics.SceneError, physics.SimulationError) as error:
+        return Refereed(state=state, decision=None, trajectory=None, void=str(error))
+    trajectory = wire_trajectory(shots[0]) if shots else None
+    return Refereed(state=new_state, decision=decision, trajectory=trajectory)
+
+
+def timeout_input(state: State) -> PlayerInput:
+    """What the server plays for a player whose shot clock ran out (see server/clock.py).
+
+    A pending choice takes the first option offered; otherwise a dead-slow stroke of the cue
+    ball straight away from the nearest ball (placed first, on the first free point of a grid
+    over the region, if it is in hand off the table), which the referee rules as a shot that
+    hit no ball: a foul in pool and snooker, no point and the turn over in three-cushion.
+    """
+    if state.pending:
+        return Choice(option=state.pending[0])
+    referee_ = REFEREES[state.game]
+    table, cue = referee_.TABLE, referee_.cue_ball(state)
+    others = {ball: p for ball, p in state.balls.items() if ball != cue}
+    at, place = state.balls.get(cue), None
+    if at is None:
+        grid = [
+            (table.width * i / 8, table.length * j / 32) for j in range(1, 32) for i in range(1, 8)
+        ]
+        region = state.ball_in_hand or "anywhere"
+        at = place = next(
+            p for p in grid if in_region(p, region, table) and is_free(p, others, table.R)
+        )
+    nearest = min(others.values(), key=lambda p: math.dist(p, at))
+    heading = math.degrees(math.atan2(at[1] - nearest[1], at[0] - nearest[0])) % 360.0
+    strike = Strike(ball=cue, speed=TIMEOUT_SPEED, heading=round(heading, 4))
+    return Shot(strike=strike, place=place)
+
+
+def rack_record(game: GameName, seed: int, inputs: list[PlayerInput]) -> GameRecord:
+    """The game record of one rack as the rules replay it (their player 0 breaks)."""
+    return GameRecord(setup=Setup(game=game, seed=seed), inputs=inputs)
+
+
+def best_visits(game: GameName, decisions: list[Decision | None], final: State) -> tuple[int, int]:
+    """Each player's best break of a rack: snooker's break and three-cushion's run as the
+    referee counts them (`State.best`), pool's balls pocketed in one visit without a foul."""
+    if game in ("snooker", "three_cushion"):
+        return final.best
+    best, visit, visitor = [0, 0], 0, None
+    for decision in decisions:
+        if decision is None:
+            continue
+        if decision.player != visitor:
+            visit, visitor = 0, decision.player
+        visit = 0 if decision.fouls else visit + len(decision.pocketed)
+        best[visitor] = max(best[visitor], visit)
+        if decision.next_player != visitor or decision.fouls:
+            visitor = None
+    return best[0], best[1]
+
+
+@dataclass(frozen=True, slots=True)
+class Verified:
+    """A replayed record: its game, each player's best break, and its inputs."""
+
+    game: GameName
+    best: tuple[int, int]
+    inputs: int
+
+
+def verify(record_json: bytes) -> Verified:
+    """Replay and re-referee a submitted record (run in a worker process).
+
+    Raises RuleError for a record that does not replay (an illegal or out-of-bounds input, an
+    engine version this server does not run) and ValueError for one that does not parse.
+    """
+    record = GameRecord.from_json(record_json)
+    played = replay(record)
+    decisions = [step.decision for step in played.steps]
+    best = best_visits(record.setup.game, decisions, played.final)
+    return Verified(game=record.setup.game, best=best, inputs=len(record.inputs))
+
+
+def bot_input(state: State) -> PlayerInput:
+    """The shot pickers' input for the player to act (run in a worker process)."""
+    return pick(state)
