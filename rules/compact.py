@@ -5,11 +5,12 @@ deflated, in base64url.
 are the integers the inputs are canonical in (rules.inputs), so a decoded record is the
 record, bit for bit. The msgpack document is one array:
 
-    [FORMAT, engine, game, seed, gap, target, inputs, digests, scores, winner, digest]
+    [FORMAT, engine, game, seed, gap, target, breaker, inputs, digests, scores, winner, digest]
 
-game: index in `Game`. gap: in 1e-7 m. inputs: one flat array of integers (and a string where a
-name is not one of the table's). digests: the per-input 16-bit digests as one byte string.
-digest: the final 8-byte chain link. Each input in `inputs` starts with a head integer:
+game: index in `Game`. gap: in 1e-7 m. breaker: the player who breaks (0 or 1). inputs: one
+flat array of integers (and a string where a name is not one of the table's). digests: the
+per-input 16-bit digests as one byte string. digest: the final 8-byte chain link. Each input
+in `inputs` starts with a head integer:
 
 - a choice: head = -1 - (index of the option in OPTIONS), nothing follows;
 - a shot: head = heading * 256 + flags (heading in 1e-4 degree steps, in [0, 3,600,000)),
@@ -53,7 +54,7 @@ from rules.racks import Game, rack
 from rules.record import MAX_INPUTS, GameRecord
 from rules.referee import referee
 
-FORMAT = 1
+FORMAT = 2
 #: Largest compact record accepted, deflated and inflated (bytes): far above MAX_INPUTS shots.
 MAX_INFLATED = 1 << 18
 
@@ -114,6 +115,7 @@ def pack(record: GameRecord) -> bytes:
     s, f = record.setup, record.final
     digests = b"".join(d.to_bytes(2, "big") for d in record.digests)
     doc = [FORMAT, record.engine, GAMES.index(s.game), s.seed, fixed(s.gap, GAP_STEPS), s.target]
+    doc.append(s.breaker)
     doc += [_pack_inputs(record), digests, list(f.scores), f.winner, bytes.fromhex(f.digest)]
     return msgpack.packb(doc)
 
@@ -196,14 +198,16 @@ def unpack(data: bytes) -> GameRecord:
     """A record from its msgpack bytes; raises RuleError (MALFORMED) for anything else."""
     try:
         doc = msgpack.unpackb(data, strict_map_key=True)
-        version, engine, game, seed, gap, target, ints, digests, scores, winner, last = doc
+        version, engine, game, seed, gap, target, breaker, ints, digests, scores, winner, last = doc
         if version != FORMAT or type(game) is not int or not 0 <= game < len(GAMES):
             raise ValueError("not a compact record of this format")
         if not isinstance(digests, bytes) or len(digests) % 2 or not isinstance(last, bytes):
             raise ValueError("bad digests")
         if type(gap) is not int:
             raise ValueError("the gap is not an integer")
-        setup = Setup(game=GAMES[game], seed=seed, gap=gap / GAP_STEPS, target=target)
+        setup = Setup(
+            game=GAMES[game], seed=seed, gap=gap / GAP_STEPS, target=target, breaker=breaker
+        )
         if not isinstance(ints, list):
             raise ValueError("inputs must be an array")
         return GameRecord(

@@ -14,7 +14,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Annotated
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 import physics
 from rules.codes import Refusal, RuleError
@@ -43,6 +43,9 @@ class Setup(BaseModel):
     gap: the largest extra space between rack balls (m), see `rules.racks`; quantised to
         1e-7 m (GAP_STEPS) so that the compact record stores it as an integer.
     target: three-cushion points to win (0 = the default of 15); ignored by the other games.
+    breaker: the player (0 or 1) who breaks, so that a match's racks, whose break alternates,
+        are each a record of their own with the players as seated. Three-cushion's rack
+        places the breaker's ball as the white, so its breaker is always player 0.
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
@@ -51,11 +54,18 @@ class Setup(BaseModel):
     seed: Annotated[int, Field(strict=True, ge=0, lt=2**63)]
     gap: Annotated[float, Field(strict=True, ge=0.0, le=0.005, allow_inf_nan=False)] = 0.0
     target: Annotated[int, Field(strict=True, ge=0, le=1000)] = 0
+    breaker: Annotated[int, Field(strict=True, ge=0, le=1)] = 0
 
     @field_validator("gap")
     @classmethod
     def _quantise_gap(cls, v: float) -> float:
         return quantise(v, GAP_STEPS)
+
+    @model_validator(mode="after")
+    def _white_breaks(self) -> Setup:
+        if self.game is Game.THREE_CUSHION and self.breaker != 0:
+            raise ValueError("in three-cushion player 0 breaks (the rack's white is theirs)")
+        return self
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,7 +79,8 @@ class Outcome:
 
 
 def start(setup: Setup) -> State:
-    return referee(setup.game).new_game(setup.seed, setup.gap, setup.target)
+    first = referee(setup.game).new_game(setup.seed, setup.gap, setup.target)
+    return first.evolve(turn=setup.breaker) if setup.breaker else first
 
 
 def _check_turn(state: State) -> None:

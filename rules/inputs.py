@@ -69,16 +69,22 @@ def heading_steps(heading: float) -> int:
 
 
 class Strike(BaseModel):
-    """The cue's stroke, exactly as the physics scene's `strike` takes it, quantised."""
+    """The cue's stroke, exactly as the physics scene's `strike` takes it, quantised.
+
+    The bounds are the engine's (physics.cue) and stand in the JSON schema too, so a client
+    reading the schema sends only what is accepted; any value within them stays within them
+    when quantised. A miscue (|(a, b)| over the limit) is a well-formed stroke the rules
+    refuse (a `value_error`), not a malformed number.
+    """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     ball: Name
-    speed: Number
+    speed: Annotated[Number, Field(ge=1 / SPEED_STEPS, le=MAX_SPEED)]
     heading: Number
-    elevation: Number = 0.0
-    a: Number = 0.0
-    b: Number = 0.0
+    elevation: Annotated[Number, Field(ge=0.0, le=MAX_ELEVATION)] = 0.0
+    a: Annotated[Number, Field(ge=-MISCUE_LIMIT, le=MISCUE_LIMIT)] = 0.0
+    b: Annotated[Number, Field(ge=-MISCUE_LIMIT, le=MISCUE_LIMIT)] = 0.0
 
     @field_validator("heading")
     @classmethod
@@ -88,24 +94,16 @@ class Strike(BaseModel):
     @field_validator("speed")
     @classmethod
     def _speed(cls, v: float) -> float:
-        q = quantise(max(-1.0, min(v, 2 * MAX_SPEED)), SPEED_STEPS)
-        if not 0.0 < q <= MAX_SPEED:
-            raise ValueError(f"speed must be in (0, {MAX_SPEED}] m/s (steps of 1 mm/s)")
-        return q
+        return quantise(v, SPEED_STEPS)
 
     @field_validator("elevation")
     @classmethod
     def _elevation(cls, v: float) -> float:
-        q = quantise(max(-1.0, min(v, 2 * MAX_ELEVATION)), ELEVATION_STEPS)
-        if not 0.0 <= q <= MAX_ELEVATION:
-            raise ValueError(f"elevation must be in [0, {MAX_ELEVATION}] degrees")
-        return q
+        return quantise(v, ELEVATION_STEPS)
 
     @field_validator("a", "b")
     @classmethod
     def _tip(cls, v: float) -> float:
-        if abs(v) > MISCUE_LIMIT:
-            raise ValueError(f"tip offsets must be within {MISCUE_LIMIT} R (miscue)")
         return quantise(v, TIP_STEPS)
 
     @model_validator(mode="after")
@@ -115,10 +113,8 @@ class Strike(BaseModel):
         return self
 
 
-def _place(v: float) -> float:
-    if abs(v) > MAX_PLACE:
-        raise ValueError(f"placement coordinates must be within {MAX_PLACE} m")
-    return quantise(v, PLACE_STEPS)
+#: A placement coordinate (m): bounded only to keep the fixed-point integers small.
+Coordinate = Annotated[Number, Field(ge=-MAX_PLACE, le=MAX_PLACE)]
 
 
 class Shot(BaseModel):
@@ -135,7 +131,7 @@ class Shot(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
 
     strike: Strike
-    place: tuple[Number, Number] | None = None
+    place: tuple[Coordinate, Coordinate] | None = None
     push_out: Annotated[bool, Field(strict=True)] = False
     call: Name | None = None
     nominate: Name | None = None
@@ -143,7 +139,7 @@ class Shot(BaseModel):
     @field_validator("place")
     @classmethod
     def _quantise_place(cls, v: tuple[float, float] | None) -> tuple[float, float] | None:
-        return None if v is None else (_place(v[0]), _place(v[1]))
+        return None if v is None else (quantise(v[0], PLACE_STEPS), quantise(v[1], PLACE_STEPS))
 
 
 class ShotOptions(BaseModel):

@@ -60,9 +60,9 @@ class State(BaseModel):
     target (three-cushion: points to win).
     """
 
-    model_config = ConfigDict(frozen=True, extra="forbid", strict=True)
+    model_config = ConfigDict(frozen=True, extra="forbid")
 
-    game: Annotated[Game, Field(strict=False)]  # the name is the game
+    game: Annotated[Game, Field(strict=False)]  # the name is the game, even in evolve
     balls: dict[str, Point]
     turn: int = 0
     scores: tuple[int, int] = (0, 0)
@@ -83,8 +83,9 @@ class State(BaseModel):
     def evolve(self, **changes: Any) -> State:
         """This state with `changes`, validated (strictly: no "1" for 1, no list for a pair):
         a misspelt field or a wrong type is an error, which pydantic's
-        `model_copy(update=...)` would store silently."""
-        return State.model_validate({**dict(self), **changes})
+        `model_copy(update=...)` would store silently. (A state read from the wire or storage
+        is validated as pydantic does by default, where a JSON array is a pair.)"""
+        return State.model_validate({**dict(self), **changes}, strict=True)
 
 
 class Decision(BaseModel):

@@ -15,7 +15,7 @@ from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
 from physics.trajectory import Event
 from rules.inputs import PlayerInput
-from rules.racks import GameName
+from rules.racks import Game
 from rules.record import GameRecord
 from rules.state import Decision, Region, State
 from server.errors import ErrorCode
@@ -143,7 +143,7 @@ class TableOptions(BaseModel):
 class TableCreate(BaseModel):
     model_config = _REQUEST
 
-    game: GameName
+    game: Game
     mode: Mode = Mode.MATCH
     race_to: RaceTo = 1
     shot_clock: ShotClock = 0
@@ -172,7 +172,7 @@ class TableSummary(BaseModel):
     model_config = _ANSWER
 
     id: TableId
-    game: GameName
+    game: Game
     mode: Mode
     status: Status
     seats: list[PlayerInfo | None]
@@ -193,7 +193,7 @@ class TableView(BaseModel):
 
     id: TableId
     channel: str
-    game: GameName
+    game: Game
     mode: Mode
     options: TableOptions
     status: Status
@@ -214,7 +214,7 @@ class TableView(BaseModel):
 class QuickRequest(BaseModel):
     model_config = _REQUEST
 
-    game: GameName
+    game: Game
 
 
 class QuickStatus(BaseModel):
@@ -273,7 +273,7 @@ class ReplayView(BaseModel):
     url: str = Field(description="the replay's page")
     table: TableId | None
     rack: int
-    game: GameName
+    game: Game
     players: list[PlayerInfo | None] = Field(description="the record's player 0 (the breaker), 1")
     best: tuple[int, int] = Field(description="each player's best break in it")
     record: GameRecord
@@ -285,7 +285,7 @@ class BreakEntry(BaseModel):
 
     model_config = _ANSWER
 
-    game: GameName
+    game: Game
     score: int
     name: str
     player: str | None = Field(default=None, description="the player's id (online breaks)")
@@ -297,7 +297,7 @@ class BreakEntry(BaseModel):
 class Leaderboard(BaseModel):
     model_config = _ANSWER
 
-    game: GameName
+    game: Game
     breaks: list[BreakEntry]
 
 
@@ -308,7 +308,7 @@ class LeaderboardMessage(BaseModel):
 
     kind: Literal["leaderboard"] = "leaderboard"
     protocol: int = PROTOCOL
-    game: GameName
+    game: Game
     breaks: list[BreakEntry]
 
 
@@ -317,7 +317,7 @@ class ClaimRequest(BaseModel):
 
     model_config = _REQUEST
 
-    game: GameName = Field(description="the leaderboard the break is claimed on")
+    game: Game = Field(description="the leaderboard the break is claimed on")
     record: GameRecord
     name: DisplayName
     score: json_int(1, 10_000)

@@ -23,6 +23,7 @@ import time
 
 from pydantic import ValidationError
 
+from rules.inputs import PlayerInput
 from rules.state import Decision, State
 from server import refereeing, tables
 from server.api_models import (
@@ -39,7 +40,7 @@ from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
 from server.replays import new_replay_id, rack_replay, replay_url
 from server.storage import Storage
-from server.tables import InputEntry, TableRecord
+from server.tables import TableRecord
 from server.workers import WorkerPool
 
 LEADERBOARD = "public-leaderboard"
@@ -68,12 +69,13 @@ class Breaks:
     async def rack_finished(
         self,
         record: TableRecord,
-        entries: list[InputEntry],
+        played: list[tuple[PlayerInput, State]],
         decisions: list[Decision | None],
-        final: State,
     ) -> ReplayView:
-        """Store the rack's replay and its players' best breaks (once per rack and seat)."""
-        replay, best = rack_replay(record, entries, decisions, final)
+        """Store the rack's replay and its players' best breaks (once per rack and seat).
+
+        played: each input of the rack that was played, with the state it led to."""
+        replay, best = rack_replay(record, played, decisions)
         await self._storage.add_replay(replay)
         source = Source.PRACTICE if record.mode is Mode.PRACTICE else Source.MATCH
         if record.mode is Mode.PRACTICE:  # one person played every visit

@@ -225,12 +225,13 @@ class MatchOwner:
     ) -> str:
         """Store the finished rack's replay and breaks; its replay id."""
         earlier = [
-            e for e in await self._context.storage.inputs(record.id) if e.rack == record.rack
+            e.outcome
+            for e in await self._context.storage.inputs(record.id)
+            if e.rack == record.rack and e.outcome is not None and e.outcome.void is None
         ]
-        decisions = [e.outcome.decision if e.outcome else None for e in earlier]
-        replay = await self._context.breaks.rack_finished(
-            record, [*earlier, last], [*decisions, result.decision], result.state
-        )
+        played = [(o.input, o.state) for o in earlier] + [(last.input, result.state)]
+        decisions = [o.decision for o in earlier] + [result.decision]
+        replay = await self._context.breaks.rack_finished(record, played, decisions)
         return replay.id
 
     async def _status_changed(self, before: TableRecord, after: TableRecord) -> None:
@@ -323,7 +324,7 @@ def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEn
     kind = InputKind.CHOICE if isinstance(intent.input, Choice) else InputKind.SHOT
     if kind not in kinds:
         raise ServiceError(ErrorCode.WRONG_PHASE, f"send a {kinds[0].value}, not a {kind.value}")
-    action = refereeing.canonical(intent.input)
+    action = intent.input
     try:
         refereeing.check(record.state, action)
     except refereeing.RuleError as error:

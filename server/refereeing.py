@@ -12,13 +12,17 @@ from dataclasses import dataclass
 
 import physics
 from physics.trajectory import Shot as EngineShot
-from rules.game import REFEREES, Setup, choose, play, shot_position, start
+from rules import game as rules_game
+from rules.codes import RuleError
+from rules.game import Setup, start
 from rules.inputs import Choice, PlayerInput, Shot, Strike
 from rules.pickers import pick
-from rules.racks import GameName
+from rules.racks import Game
 from rules.record import GameRecord, replay
+from rules.referee import allowed
+from rules.referee import referee as referee_of
 from rules.spots import in_region, is_free
-from rules.state import Decision, RuleError, State
+from rules.state import Decision, State
 from server.api_models import InputKind, Trajectory, WireSegment
 
 #: Cue speed (m/s) of the stroke played when the shot clock runs out: it rolls about 1 cm.
@@ -55,48 +59,41 @@ class Refereed:
     void: str | None = None
 
 
-def breaker_of(game: GameName, breaker: int) -> int:
+def breaker_of(game: Game, breaker: int) -> int:
     """Who really breaks when `breaker` should: in three-cushion each player's cue ball is
     fixed by the rack (the breaker's white), so the rules' player 0 always breaks there."""
-    return 0 if game == "three_cushion" else breaker
+    return 0 if game is Game.THREE_CUSHION else breaker
 
 
-def new_rack(game: GameName, seed: int, breaker: int) -> State:
+def new_rack(game: Game, seed: int, breaker: int) -> State:
     """The opening position of a rack, with `breaker` (a seat) to play the break.
 
-    The rules' player 0 breaks their racks; starting with `turn = breaker` makes seat 1 the
-    referee's breaker with everything else the same (pool's and snooker's rules treat both
-    players alike), so a rack's record replays with the players' numbers swapped.
+    Seats are the referee's players, and the rack's setup names its breaker, so the rack's
+    record replays exactly as it was played.
     """
-    breaker = breaker_of(game, breaker)
-    return start(Setup(game=game, seed=seed)).model_copy(update={"turn": breaker})
+    return start(rack_setup(game, seed, breaker))
 
 
-def canonical(action: PlayerInput) -> PlayerInput:
-    """The input as the server will play and record it (the rules' canonical form)."""
-    return action
+def rack_setup(game: Game, seed: int, breaker: int) -> Setup:
+    return Setup(game=game, seed=seed, breaker=breaker_of(game, breaker))
 
 
 def check(state: State, action: PlayerInput) -> None:
     """RuleError if the player to act may not send `action` now (nothing is simulated)."""
-    if isinstance(action, Choice):
-        choose(state, action)
-    else:
-        shot_position(state, action)
+    rules_game.check(state, action)
 
 
-def rule_code(error: RuleError) -> str | None:
-    """The referee's code for a refusal, once the rules give one (None before)."""
-    code = getattr(error, "code", None)
-    return None if code is None else str(getattr(code, "value", code))
+def rule_code(error: RuleError) -> str:
+    """The referee's code for a refusal."""
+    return error.code.value
 
 
 def constraints(state: State) -> tuple[list[InputKind], str, str | None, list[str]]:
     """(kinds, cue ball, ball-in-hand region, options) for the player to act in `state`."""
-    cue = REFEREES[state.game].cue_ball(state)
-    if state.pending:
-        return [InputKind.CHOICE], cue, None, list(state.pending)
-    return [InputKind.SHOT], cue, state.ball_in_hand, []
+    now = allowed(state)
+    if now.choices:
+        return [InputKind.CHOICE], now.cue, None, list(now.choices)
+    return [InputKind.SHOT], now.cue, now.ball_in_hand, []
 
 
 def _round(x: float) -> float:
@@ -115,18 +112,12 @@ def wire_trajectory(shot: EngineShot) -> Trajectory:
 
 def referee(state: State, action: PlayerInput) -> Refereed:
     """Simulate and judge one checked input (run in a worker process)."""
-    shots: list[EngineShot] = []
-
-    def simulate(scene: dict) -> dict:
-        shots.append(physics.simulate(scene))
-        return shots[-1].summary()
-
     try:
-        new_state, decision = play(state, action, simulate)
+        outcome = rules_game.play(state, action)
     except (RuleError, physics.SceneError, physics.SimulationError) as error:
         return Refereed(state=state, decision=None, trajectory=None, void=str(error))
-    trajectory = wire_trajectory(shots[0]) if shots else None
-    return Refereed(state=new_state, decision=decision, trajectory=trajectory)
+    trajectory = None if outcome.shot is None else wire_trajectory(outcome.shot)
+    return Refereed(state=outcome.state, decision=outcome.decision, trajectory=trajectory)
 
 
 def timeout_input(state: State) -> PlayerInput:
@@ -139,7 +130,7 @@ def timeout_input(state: State) -> PlayerInput:
     """
     if state.pending:
         return Choice(option=state.pending[0])
-    referee_ = REFEREES[state.game]
+    referee_ = referee_of(state.game)
     table, cue = referee_.TABLE, referee_.cue_ball(state)
     others = {ball: p for ball, p in state.balls.items() if ball != cue}
     at, place = state.balls.get(cue), None
@@ -157,15 +148,19 @@ def timeout_input(state: State) -> PlayerInput:
     return Shot(strike=strike, place=place)
 
 
-def rack_record(game: GameName, seed: int, inputs: list[PlayerInput]) -> GameRecord:
-    """The game record of one rack as the rules replay it (their player 0 breaks)."""
-    return GameRecord(setup=Setup(game=game, seed=seed), inputs=inputs)
+def rack_record(setup: Setup, played: list[tuple[PlayerInput, State]]) -> GameRecord:
+    """The game record of one rack from each input played and the state it led to (no
+    simulation: the states are the ones the match reached, which a replay recomputes)."""
+    record = GameRecord.begin(setup)
+    for action, state in played:
+        record = record.extend(action, state)
+    return record
 
 
-def best_visits(game: GameName, decisions: list[Decision | None], final: State) -> tuple[int, int]:
+def best_visits(game: Game, decisions: list[Decision | None], final: State) -> tuple[int, int]:
     """Each player's best break of a rack: snooker's break and three-cushion's run as the
     referee counts them (`State.best`), pool's balls pocketed in one visit without a foul."""
-    if game in ("snooker", "three_cushion"):
+    if game in (Game.SNOOKER, Game.THREE_CUSHION):
         return final.best
     best, visit, visitor = [0, 0], 0, None
     for decision in decisions:
@@ -184,7 +179,7 @@ def best_visits(game: GameName, decisions: list[Decision | None], final: State) 
 class Verified:
     """A replayed record: its game, each player's best break, and its inputs."""
 
-    game: GameName
+    game: Game
     best: tuple[int, int]
     inputs: int
 

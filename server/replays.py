@@ -11,10 +11,11 @@ from __future__ import annotations
 import secrets
 import time
 
+from rules.inputs import PlayerInput
 from rules.state import Decision, State
 from server import refereeing
 from server.api_models import ReplayView
-from server.tables import InputEntry, TableRecord
+from server.tables import TableRecord
 
 
 def new_replay_id() -> str:
@@ -27,12 +28,12 @@ def replay_url(replay_id: str) -> str:
 
 def rack_replay(
     record: TableRecord,
-    entries: list[InputEntry],
+    played: list[tuple[PlayerInput, State]],
     decisions: list[Decision | None],
-    final: State,
 ) -> tuple[ReplayView, tuple[int, int]]:
-    """The replay of the rack `entries` played, and each *seat's* best break in it."""
-    best = refereeing.best_visits(record.game, decisions, final)
+    """The replay of the rack `played` (inputs and the states they led to), and each *seat's*
+    best break in it."""
+    best = refereeing.best_visits(record.game, decisions, played[-1][1])
     first = record.breaker
     replay_id = new_replay_id()
     view = ReplayView(
@@ -44,7 +45,7 @@ def rack_replay(
         players=[record.seats[first], record.seats[1 - first]],
         best=(best[first], best[1 - first]),
         record=refereeing.rack_record(
-            record.game, record.seed + record.rack, [e.input for e in entries]
+            refereeing.rack_setup(record.game, record.seed + record.rack, record.breaker), played
         ),
         created=time.time(),
     )

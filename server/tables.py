@@ -13,7 +13,7 @@ import time
 from pydantic import BaseModel, ConfigDict, Field
 
 from rules.inputs import PlayerInput
-from rules.racks import GameName
+from rules.racks import Game
 from rules.state import State
 from server import refereeing
 from server.api_models import (
@@ -57,7 +57,7 @@ class TableRecord(BaseModel):
     model_config = ConfigDict(frozen=True)
 
     id: str
-    game: GameName
+    game: Game
     mode: Mode
     options: TableOptions
     bot: BotName | None = None

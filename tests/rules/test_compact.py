@@ -116,7 +116,7 @@ def _link(doc) -> str:
 
 
 #: A well-formed compact record of no shots, which the refused ones below alter.
-EMPTY = [1, "1", 0, 1, 0, 0, [], b"", [0, 0], None, b"\0" * 8]
+EMPTY = [2, "1", 0, 1, 0, 0, 0, [], b"", [0, 0], None, b"\0" * 8]
 
 
 def test_the_altered_document_is_well_formed():
@@ -129,15 +129,17 @@ def test_the_altered_document_is_well_formed():
         "",
         "not a link!",
         "AAAA",
-        _link([2, "1", 0, 1, 0, 0, [], b"", [0, 0], None, b"\0" * 8]),  # another format
-        _link([1, "1", 9, 1, 0, 0, [], b"", [0, 0], None, b"\0" * 8]),  # no such game
-        _link([1, "1", 0, 1, 0, 0, [5 << 8], b"\0\0", [0, 0], None, b"\0" * 8]),  # cut short
-        _link([1, "1", 0, 1, 0, 0, [], b"\0", [0, 0], None, b"\0" * 8]),  # odd digests
-        _link([1, "1", 0, 1, 0, 0, [(5 << 8) | 1, 100, 0.5], b"\0\0", [0, 0], None, b"\0" * 8]),
-        _link([1, "1", 0, "1", 0, 0, [], b"", [0, 0], None, b"\0" * 8]),  # a string seed
-        _link([1, "1", 0, 1, 0.5, 0, [], b"", [0, 0], None, b"\0" * 8]),  # a float gap
+        _link([3, "1", 0, 1, 0, 0, 0, [], b"", [0, 0], None, b"\0" * 8]),  # another format
+        _link([2, "1", 9, 1, 0, 0, 0, [], b"", [0, 0], None, b"\0" * 8]),  # no such game
+        _link([2, "1", 0, 1, 0, 0, 0, [5 << 8], b"\0\0", [0, 0], None, b"\0" * 8]),  # cut short
+        _link([2, "1", 0, 1, 0, 0, 0, [], b"\0", [0, 0], None, b"\0" * 8]),  # odd digests
+        _link([2, "1", 0, 1, 0, 0, 0, [(5 << 8) | 1, 100, 0.5], b"\0\0", [0, 0], None, b"\0" * 8]),
+        _link([2, "1", 0, "1", 0, 0, 0, [], b"", [0, 0], None, b"\0" * 8]),  # a string seed
+        _link([2, "1", 0, 1, 0.5, 0, 0, [], b"", [0, 0], None, b"\0" * 8]),  # a float gap
+        _link([2, "1", 0, 1, 0, 0, 2, [], b"", [0, 0], None, b"\0" * 8]),  # no such breaker
+        _link([2, "1", 3, 1, 0, 0, 1, [], b"", [0, 0], None, b"\0" * 8]),  # carom's white
         _link({"inputs": []}),
-        _link([*EMPTY[:6], [-1] * 5001, b"\0\0" * 5001, *EMPTY[8:]]),  # too many inputs
+        _link([*EMPTY[:7], [-1] * 5001, b"\0\0" * 5001, *EMPTY[9:]]),  # too many inputs
         "A" * (1 << 19),
         _link([[[[[]]]]] * 3),
         base64.urlsafe_b64encode(zlib.compress(b"\0" * 10_000_000)[2:-4]).decode(),  # a bomb

@@ -11,6 +11,7 @@ import pytest
 
 import physics
 from physics import ENGINE_VERSION
+from rules import compact
 from rules.codes import Refusal, RuleError
 from rules.game import Setup, play, start
 from rules.inputs import Choice, Shot, Strike
@@ -177,3 +178,22 @@ def test_an_engine_failure_names_its_input():
     record = recorded(Setup(game="nineball", seed=4), [BREAK], LEGAL_BREAK)
     with pytest.raises(physics.SimulationError, match=r"^input #1: event limit$"):
         replay(record, broken)
+
+
+def test_the_second_player_may_break_and_the_record_says_so():
+    """A match alternates the break: a rack broken by player 1 is a record of its own, which
+    replays (and packs) with player 1 breaking; the same inputs from player 0's break do not
+    replay as that record."""
+    setup = Setup(game="nineball", seed=9, breaker=1)
+    assert start(setup).turn == 1
+    record = recorded(setup, [BREAK], LEGAL_BREAK)
+    assert replay(record, LEGAL_BREAK).steps[0].decision.player == 1
+    assert compact.decode(compact.encode(record)) == record
+    as_player_0 = record.model_copy(update={"setup": setup.model_copy(update={"breaker": 0})})
+    with refused(Refusal.REPLAY_DIFFERS):
+        replay(as_player_0, LEGAL_BREAK)
+
+
+def test_three_cushion_is_broken_by_player_0():
+    with pytest.raises(ValueError, match="player 0 breaks"):
+        Setup(game="three_cushion", seed=1, breaker=1)

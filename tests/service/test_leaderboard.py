@@ -67,18 +67,20 @@ async def test_claims_are_replayed_and_refused_when_they_do_not_hold(server: Tes
     assert (status, verdict["code"]) == (422, "claim_mismatch")
     out_of_bounds = json.loads(json.dumps(record))
     out_of_bounds["inputs"][0]["strike"]["speed"] = 50
-    assert (await submit(claim | {"record": out_of_bounds}))[0] == 400
+    status, verdict = await submit(claim | {"record": out_of_bounds})
+    assert (status, verdict["code"]) == (400, "bad_request")
     other_engine = json.loads(json.dumps(record))
-    other_engine["setup"]["engine"] = "0"
+    other_engine["engine"] = "0"
     status, verdict = await submit(claim | {"record": other_engine})
     assert (status, verdict["code"]) == (422, "illegal_input")
     altered = json.loads(json.dumps(record))
     altered["inputs"][1]["strike"]["heading"] += 7.0
-    status, _ = await submit(claim | {"record": altered})
+    status, verdict = await submit(claim | {"record": altered})
+    # An altered shot is another game, which the record's digests give away.
+    assert (status, verdict["code"]) == (422, "illegal_input")
+    assert "replay_differs" in json.dumps(verdict)
     board = (await (await server.get("/api/leaderboard/nineball")).json())["breaks"]
-    # An altered shot is another game: refused unless it happens to make the claimed break.
-    # Every refusal so far stored nothing.
-    assert (status, len(board)) in ((422, 0), (201, 1))
+    assert board == []  # every refusal so far stored nothing
 
     status, verdict = await submit(claim)
     assert status == 201 and verdict["entry"]["score"] == best
