@@ -23,7 +23,6 @@ import time
 
 from pydantic import ValidationError
 
-from rules.state import Decision, State
 from server import refereeing, tables
 from server.api_models import (
     BreakEntry,
@@ -37,6 +36,7 @@ from server.api_models import (
 )
 from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
+from server.refereeing import Decision, State
 from server.replays import new_replay_id, rack_replay, replay_url
 from server.storage import Storage
 from server.tables import InputEntry, TableRecord

@@ -11,9 +11,9 @@ from __future__ import annotations
 import secrets
 import time
 
-from rules.state import Decision, State
 from server import refereeing
 from server.api_models import ReplayView
+from server.refereeing import Decision, State
 from server.tables import InputEntry, TableRecord
 
 

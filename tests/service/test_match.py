@@ -9,9 +9,7 @@ from typing import Any
 
 from aiohttp.test_utils import TestClient
 
-from rules.inputs import Shot
-from rules.pickers import pick
-from rules.state import State
+from server import refereeing
 from server.match import LEASE
 from server.storage import Storage
 from server.tables import InputEntry
@@ -20,7 +18,8 @@ from tests.service.conftest import Player, register, watch
 
 def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
     """The shot pickers' input for a published state (a client choosing its shot)."""
-    return pick(State.model_validate(view_or_outcome["state"])).model_dump(mode="json")
+    state = refereeing.State.model_validate(view_or_outcome["state"])
+    return refereeing.bot_input(state).model_dump(mode="json")
 
 
 async def abandon_input(storage: Storage, view: dict[str, Any], shot_id: str) -> None:
@@ -29,7 +28,7 @@ async def abandon_input(storage: Storage, view: dict[str, Any], shot_id: str) ->
     entry = InputEntry(
         shot_id=shot_id,
         seat=0,
-        input=Shot.model_validate(picked(view)),
+        input=refereeing.Shot.model_validate(picked(view)),
         version=record.version,
         accepted_at=time.time() - LEASE - 1,
         replica="a-replica-that-died",
