@@ -9,6 +9,7 @@ from aiohttp.test_utils import TestClient
 from rules.game import Setup
 from rules.selfplay import selfplay
 from server import refereeing
+from server.client import from_json
 from tests.service.conftest import register, watch
 from tests.service.test_match import picked
 
@@ -78,7 +79,7 @@ async def test_claims_are_replayed_and_refused_when_they_do_not_hold(server: Tes
 
     status, verdict = await submit(claim)
     assert status == 201 and verdict["entry"]["score"] == best
-    assert verdict["replay"]["record"] == refereeing.GameRecord.model_validate(record).model_dump(
+    assert verdict["replay"]["record"] == from_json(refereeing.GameRecord, record).model_dump(
         mode="json"
     )
     status, again = await submit(claim)

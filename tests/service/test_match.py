@@ -10,6 +10,7 @@ from typing import Any
 from aiohttp.test_utils import TestClient
 
 from server import refereeing
+from server.client import from_json
 from server.match import LEASE
 from server.storage import Storage
 from server.tables import InputEntry
@@ -18,7 +19,7 @@ from tests.service.conftest import Player, register, watch
 
 def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
     """The shot pickers' input for a published state (a client choosing its shot)."""
-    state = refereeing.State.model_validate(view_or_outcome["state"])
+    state = from_json(refereeing.State, view_or_outcome["state"])
     return refereeing.bot_input(state).model_dump(mode="json")
 
 
@@ -28,7 +29,7 @@ async def abandon_input(storage: Storage, view: dict[str, Any], shot_id: str) ->
     entry = InputEntry(
         shot_id=shot_id,
         seat=0,
-        input=refereeing.Shot.model_validate(picked(view)),
+        input=from_json(refereeing.Shot, picked(view)),
         version=record.version,
         accepted_at=time.time() - LEASE - 1,
         replica="a-replica-that-died",
