@@ -162,7 +162,9 @@ async def register(request: web.Request) -> web.Response:
     create = await parse(request, PlayerCreate)
     service = service_of(request)
     service.throttle("register", request.remote or "")
-    return answer(await service.identity.register(create.name), 201)
+    token = await service.identity.register(create.name)
+    service.lobby.changed()  # one more player online
+    return answer(token, 201)
 
 
 async def me(request: web.Request) -> web.Response:
