@@ -162,7 +162,9 @@ async def register(request: web.Request) -> web.Response:
     create = await parse(request, PlayerCreate)
     service = service_of(request)
     service.throttle("register", request.remote or "")
-    return answer(await service.identity.register(create.name), 201)
+    token = await service.identity.register(create.name)
+    service.lobby.changed()  # one more player online
+    return answer(token, 201)
 
 
 async def me(request: web.Request) -> web.Response:
@@ -306,6 +308,7 @@ async def intent(request: web.Request) -> web.Response:
 async def heartbeat(request: web.Request) -> web.Response:
     player = await player_of(request)
     service = service_of(request)
+    service.throttle("heartbeat", player.id)
     record = await table_of(request)
     seat = _seated(record, player)
     now = time.time()
@@ -416,7 +419,7 @@ ROUTES: tuple[Route, ...] = (
     Route("POST", f"{_T}/rematch", rematch, "Offer or accept a rematch", {200: TableView},
           refusals=_TABLE_REFUSALS),
     Route("POST", f"{_T}/heartbeat", heartbeat, "I am still here", {200: PresenceMessage},
-          refusals=_TABLE_REFUSALS),
+          refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},
           QuickMessageRequest, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
     Route("GET", "/api/replays/{replay:[0-9a-f]{24}}", get_replay, "A rack's replay",

@@ -13,12 +13,9 @@ from typing import Annotated, Literal
 from annotated_types import Interval
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
-from physics.trajectory import Event
-from rules.inputs import PlayerInput
-from rules.racks import Game
-from rules.record import GameRecord
-from rules.state import Decision, Region, State
 from server.errors import ErrorCode
+from server.refereeing import Decision, GameName, GameRecord, PlayerInput, Region, State
+from server.trajectories import Trajectory
 
 #: The format version of channel messages; bumped when a client must change to read them.
 PROTOCOL = 1
@@ -143,7 +140,7 @@ class TableOptions(BaseModel):
 class TableCreate(BaseModel):
     model_config = _REQUEST
 
-    game: Game
+    game: GameName
     mode: Mode = Mode.MATCH
     race_to: RaceTo = 1
     shot_clock: ShotClock = 0
@@ -172,7 +169,7 @@ class TableSummary(BaseModel):
     model_config = _ANSWER
 
     id: TableId
-    game: Game
+    game: GameName
     mode: Mode
     status: Status
     seats: list[PlayerInfo | None]
@@ -193,7 +190,7 @@ class TableView(BaseModel):
 
     id: TableId
     channel: str
-    game: Game
+    game: GameName
     mode: Mode
     options: TableOptions
     status: Status
@@ -214,7 +211,7 @@ class TableView(BaseModel):
 class QuickRequest(BaseModel):
     model_config = _REQUEST
 
-    game: Game
+    game: GameName
 
 
 class QuickStatus(BaseModel):
@@ -273,8 +270,8 @@ class ReplayView(BaseModel):
     url: str = Field(description="the replay's page")
     table: TableId | None
     rack: int
-    game: Game
-    players: list[PlayerInfo | None] = Field(description="the record's player 0 (the breaker), 1")
+    game: GameName
+    players: list[PlayerInfo | None] = Field(description="the seats 0 and 1")
     best: tuple[int, int] = Field(description="each player's best break in it")
     record: GameRecord
     created: float
@@ -285,7 +282,7 @@ class BreakEntry(BaseModel):
 
     model_config = _ANSWER
 
-    game: Game
+    game: GameName
     score: int
     name: str
     player: str | None = Field(default=None, description="the player's id (online breaks)")
@@ -297,7 +294,7 @@ class BreakEntry(BaseModel):
 class Leaderboard(BaseModel):
     model_config = _ANSWER
 
-    game: Game
+    game: GameName
     breaks: list[BreakEntry]
 
 
@@ -308,7 +305,7 @@ class LeaderboardMessage(BaseModel):
 
     kind: Literal["leaderboard"] = "leaderboard"
     protocol: int = PROTOCOL
-    game: Game
+    game: GameName
     breaks: list[BreakEntry]
 
 
@@ -317,7 +314,7 @@ class ClaimRequest(BaseModel):
 
     model_config = _REQUEST
 
-    game: Game = Field(description="the leaderboard the break is claimed on")
+    game: GameName = Field(description="the leaderboard the break is claimed on")
     record: GameRecord
     name: DisplayName
     score: json_int(1, 10_000)
@@ -332,22 +329,6 @@ class ClaimVerdict(BaseModel):
 
 
 # ----- channel messages -----------------------------------------------------------------------
-#: One segment on the wire: [t, state, rx, ry, vx, vy, ax, ay, wx, wy, wz, dwx, dwy, dwz].
-WireSegment = tuple[
-    float, str, float, float, float, float, float, float, float, float, float, float, float, float
-]
-
-
-class Trajectory(BaseModel):
-    """The engine's per-ball polynomial motion of one shot, compact (see docs/protocol.md)."""
-
-    model_config = _ANSWER
-
-    duration: float
-    events: list[Event]
-    balls: dict[str, list[WireSegment]]
-
-
 class OutcomeMessage(BaseModel):
     """One input played: published once on the table channel, after it was stored."""
 

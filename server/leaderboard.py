@@ -23,8 +23,6 @@ import time
 
 from pydantic import ValidationError
 
-from rules.inputs import PlayerInput
-from rules.state import Decision, State
 from server import refereeing, tables
 from server.api_models import (
     BreakEntry,
@@ -38,6 +36,7 @@ from server.api_models import (
 )
 from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
+from server.refereeing import Decision, PlayerInput, State
 from server.replays import new_replay_id, rack_replay, replay_url
 from server.storage import Storage
 from server.tables import TableRecord
@@ -74,8 +73,11 @@ class Breaks:
     ) -> ReplayView:
         """Store the rack's replay and its players' best breaks (once per rack and seat).
 
-        played: each input of the rack that was played, with the state it led to."""
-        replay, best = rack_replay(record, played, decisions)
+        played: each input of the rack that was played (void ones left out), with the state it
+        led to; decisions: the referee's decision on each."""
+        setup = refereeing.rack_setup(record.game, record.seed + record.rack, record.breaker)
+        game_record = refereeing.rack_record(setup, played)
+        replay, best = rack_replay(record, game_record, decisions, played[-1][1])
         await self._storage.add_replay(replay)
         source = Source.PRACTICE if record.mode is Mode.PRACTICE else Source.MATCH
         if record.mode is Mode.PRACTICE:  # one person played every visit

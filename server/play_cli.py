@@ -133,7 +133,7 @@ async def submit(args: argparse.Namespace) -> int:
     import aiohttp
 
     from server.api_models import ClaimVerdict
-    from server.client import GameClient, Refused
+    from server.client import GameClient, Refused, from_json
 
     try:
         record = json.loads(Path(args.record).read_text())
@@ -144,7 +144,7 @@ async def submit(args: argparse.Namespace) -> int:
         client = GameClient(args.url, session)
         body = {"game": game, "record": record, "name": args.name, "score": args.score}
         _, answer = await client.request("POST", "/api/leaderboard/claims", body)
-    verdict = ClaimVerdict.model_validate(answer)
+    verdict = from_json(ClaimVerdict, answer)
     entry = verdict.entry
     print(
         f"accepted: {entry.game} break of {entry.score} by {entry.name}, "

@@ -1,5 +1,8 @@
 """Every call the game service makes into `rules`, in one place: the seam to the referees.
 
+The rest of the server imports the rules' types from here too (`State`, `Decision`,
+`PlayerInput`, ...), so a change of the rules' interface is met in this module alone.
+
 The match owner checks an input here on the event loop (cheap: no physics), and the worker
 processes run `referee` and `bot_input` (the engine runs there, never on the event loop). What
 they return is picklable and already in wire form, so the event loop only stores and publishes.
@@ -11,28 +14,33 @@ import math
 from dataclasses import dataclass
 
 import physics
-from physics.trajectory import Shot as EngineShot
-from rules import game as rules_game
 from rules.codes import RuleError
-from rules.game import Setup, start
-from rules.inputs import Choice, PlayerInput, Shot, Strike
+from rules.game import Setup, play, start
+from rules.game import check as rules_check
+from rules.inputs import Choice, PlayerInput, Shot, accept
 from rules.pickers import pick
-from rules.racks import Game
+from rules.racks import Game as GameName
 from rules.record import GameRecord, replay
 from rules.referee import allowed
 from rules.referee import referee as referee_of
 from rules.spots import in_region, is_free
-from rules.state import Decision, State
-from server.api_models import InputKind, Trajectory, WireSegment
+from rules.state import Decision, Region, State
+from server.trajectories import Trajectory, wire_trajectory
 
 #: Cue speed (m/s) of the stroke played when the shot clock runs out: it rolls about 1 cm.
 TIMEOUT_SPEED = 0.05
-#: Significant digits kept in a published trajectory (animation only; rest positions are exact).
-TRAJECTORY_DIGITS = 7
 
 __all__ = [
+    "Choice",
+    "Decision",
+    "GameName",
+    "GameRecord",
+    "PlayerInput",
     "Refereed",
+    "Region",
     "RuleError",
+    "Shot",
+    "State",
     "bot_input",
     "breaker_of",
     "check",
@@ -59,64 +67,53 @@ class Refereed:
     void: str | None = None
 
 
-def breaker_of(game: Game, breaker: int) -> int:
+def breaker_of(game: GameName, breaker: int) -> int:
     """Who really breaks when `breaker` should: in three-cushion each player's cue ball is
     fixed by the rack (the breaker's white), so the rules' player 0 always breaks there."""
-    return 0 if game is Game.THREE_CUSHION else breaker
+    return 0 if game is GameName.THREE_CUSHION else breaker
 
 
-def new_rack(game: Game, seed: int, breaker: int) -> State:
-    """The opening position of a rack, with `breaker` (a seat) to play the break.
+def rack_setup(game: GameName, seed: int, breaker: int) -> Setup:
+    """The rules' setup of a rack whose break goes to seat `breaker` (seats are the referee's
+    players, and a setup names its breaker)."""
+    return Setup(game=game, seed=seed, breaker=breaker_of(game, breaker))
 
-    Seats are the referee's players, and the rack's setup names its breaker, so the rack's
-    record replays exactly as it was played.
-    """
+
+def new_rack(game: GameName, seed: int, breaker: int) -> State:
+    """The opening position of a rack, with `breaker` (a seat) to play the break."""
     return start(rack_setup(game, seed, breaker))
 
 
-def rack_setup(game: Game, seed: int, breaker: int) -> Setup:
-    return Setup(game=game, seed=seed, breaker=breaker_of(game, breaker))
+def canonical(action: PlayerInput) -> PlayerInput:
+    """The input as the server will play and record it (the rules' canonical form)."""
+    return accept(action.model_dump(mode="json"))
 
 
 def check(state: State, action: PlayerInput) -> None:
     """RuleError if the player to act may not send `action` now (nothing is simulated)."""
-    rules_game.check(state, action)
+    rules_check(state, action)
 
 
-def rule_code(error: RuleError) -> str:
-    """The referee's code for a refusal."""
-    return error.code.value
+def rule_code(error: RuleError) -> str | None:
+    """The referee's code for a refusal, once the rules give one (None before)."""
+    code = getattr(error, "code", None)
+    return None if code is None else str(getattr(code, "value", code))
 
 
-def constraints(state: State) -> tuple[list[InputKind], str, str | None, list[str]]:
-    """(kinds, cue ball, ball-in-hand region, options) for the player to act in `state`."""
+def constraints(state: State) -> tuple[list[str], str, Region | None]:
+    """(options pending, cue ball, ball-in-hand region) for the player to act in `state`:
+    with options pending the player must choose one, otherwise it shoots."""
     now = allowed(state)
-    if now.choices:
-        return [InputKind.CHOICE], now.cue, None, list(now.choices)
-    return [InputKind.SHOT], now.cue, now.ball_in_hand, []
-
-
-def _round(x: float) -> float:
-    return float(f"{x:.{TRAJECTORY_DIGITS}g}")
-
-
-def wire_trajectory(shot: EngineShot) -> Trajectory:
-    """The engine's segments as compact arrays (see docs/protocol.md, the outcome message)."""
-    balls: dict[str, list[WireSegment]] = {}
-    for ball, segments in shot.trajectories.items():
-        balls[ball] = [
-            (_round(s.t), s.state, *map(_round, (*s.r, *s.v, *s.a, *s.w, *s.dw))) for s in segments
-        ]
-    return Trajectory(duration=shot.duration, events=shot.events, balls=balls)
+    return list(now.choices), now.cue, now.ball_in_hand
 
 
 def referee(state: State, action: PlayerInput) -> Refereed:
     """Simulate and judge one checked input (run in a worker process)."""
     try:
-        outcome = rules_game.play(state, action)
+        outcome = play(state, action)
     except (RuleError, physics.SceneError, physics.SimulationError) as error:
         return Refereed(state=state, decision=None, trajectory=None, void=str(error))
-    trajectory = None if outcome.shot is None else wire_trajectory(outcome.shot)
+    trajectory = wire_trajectory(outcome.shot) if outcome.shot else None
     return Refereed(state=outcome.state, decision=outcome.decision, trajectory=trajectory)
 
 
@@ -144,23 +141,23 @@ def timeout_input(state: State) -> PlayerInput:
         )
     nearest = min(others.values(), key=lambda p: math.dist(p, at))
     heading = math.degrees(math.atan2(at[1] - nearest[1], at[0] - nearest[0])) % 360.0
-    strike = Strike(ball=cue, speed=TIMEOUT_SPEED, heading=round(heading, 4))
-    return Shot(strike=strike, place=place)
+    strike = {"ball": cue, "speed": TIMEOUT_SPEED, "heading": round(heading, 4)}
+    return accept({"strike": strike, "place": place})
 
 
 def rack_record(setup: Setup, played: list[tuple[PlayerInput, State]]) -> GameRecord:
-    """The game record of one rack from each input played and the state it led to (no
-    simulation: the states are the ones the match reached, which a replay recomputes)."""
+    """The game record of one rack from each input played and the state it led to: nothing is
+    simulated again (the states are the match's own, which a replay of the record recomputes)."""
     record = GameRecord.begin(setup)
     for action, state in played:
         record = record.extend(action, state)
     return record
 
 
-def best_visits(game: Game, decisions: list[Decision | None], final: State) -> tuple[int, int]:
+def best_visits(game: GameName, decisions: list[Decision | None], final: State) -> tuple[int, int]:
     """Each player's best break of a rack: snooker's break and three-cushion's run as the
     referee counts them (`State.best`), pool's balls pocketed in one visit without a foul."""
-    if game in (Game.SNOOKER, Game.THREE_CUSHION):
+    if game in ("snooker", "three_cushion"):
         return final.best
     best, visit, visitor = [0, 0], 0, None
     for decision in decisions:
@@ -179,7 +176,7 @@ def best_visits(game: Game, decisions: list[Decision | None], final: State) -> t
 class Verified:
     """A replayed record: its game, each player's best break, and its inputs."""
 
-    game: Game
+    game: GameName
     best: tuple[int, int]
     inputs: int
 

@@ -2,8 +2,8 @@
 
 A replay is the rack's game record (setup and inputs, `rules.record.GameRecord`) under an id of
 96 random bits, so a private table's racks cannot be found by guessing; `/replay/{id}` is its
-page in the web client and `GET /api/replays/{id}` its JSON. The record's player 0 is the
-rack's breaker (`players` names who that was), so the record replays exactly as it was played.
+page in the web client and `GET /api/replays/{id}` its JSON. The record's players are the
+table's seats and its setup names the rack's breaker, so it replays exactly as it was played.
 """
 
 from __future__ import annotations
@@ -11,10 +11,9 @@ from __future__ import annotations
 import secrets
 import time
 
-from rules.inputs import PlayerInput
-from rules.state import Decision, State
 from server import refereeing
 from server.api_models import ReplayView
+from server.refereeing import Decision, GameRecord, State
 from server.tables import TableRecord
 
 
@@ -28,13 +27,13 @@ def replay_url(replay_id: str) -> str:
 
 def rack_replay(
     record: TableRecord,
-    played: list[tuple[PlayerInput, State]],
+    game_record: GameRecord,
     decisions: list[Decision | None],
+    final: State,
 ) -> tuple[ReplayView, tuple[int, int]]:
-    """The replay of the rack `played` (inputs and the states they led to), and each *seat's*
-    best break in it."""
-    best = refereeing.best_visits(record.game, decisions, played[-1][1])
-    first = record.breaker
+    """The replay of a finished rack (`game_record`: its inputs as the rules record them, from
+    `refereeing.rack_record`), and each seat's best break in it."""
+    best = refereeing.best_visits(record.game, decisions, final)
     replay_id = new_replay_id()
     view = ReplayView(
         id=replay_id,
@@ -42,11 +41,9 @@ def rack_replay(
         table=record.id,
         rack=record.rack,
         game=record.game,
-        players=[record.seats[first], record.seats[1 - first]],
-        best=(best[first], best[1 - first]),
-        record=refereeing.rack_record(
-            refereeing.rack_setup(record.game, record.seed + record.rack, record.breaker), played
-        ),
+        players=list(record.seats),
+        best=best,
+        record=game_record,
         created=time.time(),
     )
     return view, best

@@ -26,14 +26,15 @@ from server.storage import Storage
 from server.workers import WorkerPool, default_workers
 
 #: (requests per second, burst) per caller for what makes the server store or send something:
-#: new identities per client address, tables and quick-match requests per player, quick
-#: messages per player and table (one per 2 s). Intents need none: only the player to act may
+#: new identities per client address, tables, quick-match requests and heartbeats per player,
+#: quick messages per player and table (one per 2 s). Intents need none: only the player to act may
 #: send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
     "register": (5.0, 200),
     "create": (1.0, 20),
     "quick": (2.0, 20),
     "chat": (0.5, 1),
+    "heartbeat": (2.0, 10),
 }
 
 

@@ -12,13 +12,11 @@ import time
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from rules.inputs import PlayerInput
-from rules.racks import Game
-from rules.state import State
 from server import refereeing
 from server.api_models import (
     BotName,
     Constraints,
+    InputKind,
     Mode,
     OutcomeMessage,
     PlayerInfo,
@@ -29,6 +27,7 @@ from server.api_models import (
     TableView,
 )
 from server.errors import ErrorCode, ServiceError
+from server.refereeing import GameName, PlayerInput, State
 
 #: A seated player without a heartbeat for this long is shown disconnected (s).
 PRESENCE_TIMEOUT = 10.0
@@ -57,7 +56,7 @@ class TableRecord(BaseModel):
     model_config = ConfigDict(frozen=True)
 
     id: str
-    game: Game
+    game: GameName
     mode: Mode
     options: TableOptions
     bot: BotName | None = None
@@ -161,12 +160,12 @@ def constraints(record: TableRecord) -> Constraints | None:
     seat = acting_seat(record)
     if seat is None:
         return None
-    kinds, cue, region, options = refereeing.constraints(record.state)
+    options, cue, region = refereeing.constraints(record.state)
     occupant = record.seats[seat]
     return Constraints(
         seat=seat,
         player=occupant.id if occupant else None,
-        kinds=kinds,
+        kinds=[InputKind.CHOICE if options else InputKind.SHOT],
         cue_ball=cue,
         ball_in_hand=region,
         options=options,

@@ -17,9 +17,8 @@ from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import TypeVar
 
-from rules.inputs import PlayerInput
-from rules.state import State
 from server import refereeing
+from server.refereeing import PlayerInput, State
 
 T = TypeVar("T")
 

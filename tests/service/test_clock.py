@@ -7,8 +7,8 @@ from pathlib import Path
 
 from aiohttp.test_utils import TestClient
 
-from rules.state import State
 from server import refereeing
+from server.client import from_json
 from server.storage.sqlite import SqliteStorage
 from tests.service.conftest import StartServer, register, service_of, watch
 
@@ -39,9 +39,10 @@ def test_the_timeout_input_hits_nothing_in_every_game_and_places_a_ball_in_hand(
         result = refereeing.referee(state, action)
         touched = [e for e in result.trajectory.events if e.type == "ball_ball"]
         assert touched == [] and result.state.turn == 1, game
-    in_hand = State.model_validate(
+    in_hand = from_json(
+        refereeing.State,
         refereeing.new_rack("nineball", 3, 0).model_dump()
-        | {"ball_in_hand": "anywhere", "balls": {"1": (0.6, 1.5), "9": (0.6, 1.6)}}
+        | {"ball_in_hand": "anywhere", "balls": {"1": (0.6, 1.5), "9": (0.6, 1.6)}},
     )
     action = refereeing.timeout_input(in_hand)
     assert action.place is not None

@@ -7,7 +7,7 @@ import time
 
 import pytest
 
-from rules.inputs import Choice
+from server import refereeing
 from server.api_models import BreakEntry, Source
 from server.ratings import Rating
 from server.storage import AcceptResult, Storage
@@ -19,7 +19,7 @@ def pending(record: TableRecord, shot_id: str) -> TableRecord:
     entry = InputEntry(
         shot_id=shot_id,
         seat=0,
-        input=Choice(option="play_on"),
+        input=refereeing.Choice(option="play_on"),
         version=record.version,
         accepted_at=time.time(),
     )
