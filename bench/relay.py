@@ -59,7 +59,7 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-SECRET = "bench-relay-secret-0123456789"
+SECRET = "bench-relay-secret-0123456789-0123456789"
 HOST = "127.0.0.1"
 RELAYS = ("memory", "redis", "memory-uvloop", "redis-uvloop")
 REFERENCES = ("bare", "nchan", "bare-uvloop")

@@ -15,10 +15,11 @@ What a backend must guarantee
 2. **Bounded buffer.** A channel keeps at most `config.buffer_length` messages, none older than
    `config.message_ttl` seconds. Older ones are dropped ("evicted"), and the backend remembers
    the newest id it ever evicted from each channel.
-3. **Exactly-once resume.** `read_since(channel, last_id)` returns the buffered messages with ids
-   greater than `last_id`, oldest first. `subscribe(..., last_id=...)` delivers those and then
-   every later message, each exactly once and in order, with no window between the backlog and
-   the live feed (the base class does this if `_open_feed` keeps its promise, see below).
+3. **Exactly-once resume.** `read_since(channel, last_id, limit)` returns the buffered messages
+   with ids greater than `last_id`, oldest first, at most `limit` of them. `subscribe(...,
+   last_id=...)` delivers those and then every later message, each exactly once and in order,
+   with no window between the backlog and the live feed (the base class does this if
+   `_open_feed` keeps its promise, see below).
 4. **Explicit gaps.** When a message newer than `last_id` has been evicted, the subscriber cannot
    get everything it missed: `read_since` sets `Backlog.gap`, and `subscribe` sends a `Gap`
    event before the remaining messages. Never jump silently over lost messages.
@@ -33,6 +34,12 @@ What a backend must guarantee
 
 Delivery never blocks: `Sink.offer` must return at once. A connection whose queue is full closes
 itself (see `server.relay.sendqueue`), and the subscriber resumes by id.
+
+Backlogs go out a page at a time (`BackendConfig.backlog_page` messages): the next page is read
+only once the sink has sent the previous one (`Sink.drained`), so a subscriber that never reads
+holds one page, not the whole buffer, however long the buffer and however many such readers.
+Live messages that arrive meanwhile wait in the subscription, at most `buffer_length` of them:
+any it had to drop are still in the buffer, and the catch-up reads on until it has them.
 """
 
 from __future__ import annotations
@@ -44,7 +51,7 @@ from typing import Protocol
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from server.relay.ids import MessageKey, parse_message_id
+from server.relay.ids import MessageKey, format_message_id, parse_message_id
 from server.relay.messages import (
     SHUTDOWN,
     Backlog,
@@ -64,6 +71,7 @@ class BackendConfig(BaseModel):
 
     buffer_length: int = Field(default=100, ge=1, description="messages kept per channel")
     message_ttl: float = Field(default=3600.0, gt=0, description="seconds a message is kept")
+    backlog_page: int = Field(default=4, ge=1, description="messages read at a time to resume")
 
 
 class Start(StrEnum):
@@ -79,6 +87,9 @@ class Sink(Protocol):
     def offer(self, event: Event) -> None:
         """Take one event without waiting (a full sink closes its connection instead)."""
 
+    async def drained(self) -> bool:
+        """Wait until everything offered has been sent on; False if the sink has closed."""
+
 
 class Subscription:
     """One subscriber of one channel in this process; end it with `Backend.unsubscribe`.
@@ -87,35 +98,68 @@ class Subscription:
     before the backlog was read (and so repeats some of it) never causes duplicates.
     """
 
-    __slots__ = ("_newest", "_pending", "channel", "sink")
+    __slots__ = ("_dropped", "_newest", "_pending", "catch_up", "channel", "pending_limit", "sink")
 
-    def __init__(self, channel: str, sink: Sink) -> None:
+    def __init__(self, channel: str, sink: Sink, pending_limit: int) -> None:
         self.channel = channel
         self.sink = sink
+        self.pending_limit = pending_limit
         self._newest: MessageKey = (-1, -1)
         # While the backlog is being read, live events wait here so that they follow it.
         self._pending: list[Event] | None = []
+        self._dropped = False  # pending messages were dropped since the last backlog read
+        self.catch_up: asyncio.Future[None] | None = None  # reads the backlog's later pages
+
+    @property
+    def newest_id(self) -> str | None:
+        """The id of the newest message delivered (or resumed from), None before any."""
+        return None if self._newest == (-1, -1) else format_message_id(self._newest)
 
     def push(self, event: Event) -> None:
         """Deliver one live event (held back until the backlog has gone out)."""
-        if self._pending is not None:
+        if isinstance(event, ChannelClosed) and self.catch_up is not None:
+            self.catch_up.cancel()  # the end comes at once, not after the backlog
+            self.sink.offer(event)
+        elif self._pending is not None:
+            if isinstance(event, StoredMessage) and len(self._pending) >= self.pending_limit:
+                # Still in the buffer (or reported as a gap): the catch-up reads it again.
+                self._pending.pop(0)
+                self._dropped = True
             self._pending.append(event)
-        elif isinstance(event, StoredMessage):
+        else:
+            self._offer(event)
+
+    def _offer(self, event: Event) -> None:
+        if isinstance(event, StoredMessage):
             if event.key > self._newest:
                 self._newest = event.key
                 self.sink.offer(event)
         else:
             self.sink.offer(event)
 
-    def start(self, backlog: Backlog, last_id: str | None) -> None:
-        """Send the gap notice and the backlog, then the held-back live events not in it."""
-        if backlog.gap and last_id is not None:
-            self.sink.offer(Gap(channel=self.channel, last_id=last_id))
+    def resume_from(self, last_id: str | None) -> None:
         if last_id is not None:
             self._newest = parse_message_id(last_id)
+
+    def deliver(self, backlog: Backlog, after: str | None) -> bool:
+        """Send a gap notice (if messages after `after` were lost) and one page of backlog.
+
+        True when the subscription may go live: the page was the last one and no live message
+        was dropped while it was read.
+        """
+        if backlog.gap and after is not None:
+            self.sink.offer(Gap(channel=self.channel, last_id=after))
+        for message in backlog.messages:
+            self._offer(message)
+        caught_up = not backlog.more and not self._dropped
+        self._dropped = False
+        return caught_up
+
+    def go_live(self) -> None:
+        """Send the held-back live events not already sent, then everything as it comes."""
         pending, self._pending = self._pending or [], None
-        for event in [*backlog.messages, *pending]:
-            self.push(event)
+        for event in pending:
+            self._offer(event)
 
 
 class Backend(ABC):
@@ -128,12 +172,15 @@ class Backend(ABC):
 
     # ----- storage: implemented by each backend -------------------------------------------
     @abstractmethod
-    async def publish(self, channel: str, data: bytes, content_type: str) -> Published:
+    async def publish(
+        self, channel: str, data: bytes, content_type: str, event: str | None = None
+    ) -> Published:
         """Append a message (new id, evicting beyond the bounds) and deliver it everywhere."""
 
     @abstractmethod
-    async def read_since(self, channel: str, last_id: str | None) -> Backlog:
-        """Buffered messages newer than `last_id` (all of them for None), and the gap flag."""
+    async def read_since(self, channel: str, last_id: str | None, limit: int) -> Backlog:
+        """The oldest `limit` buffered messages newer than `last_id` (None: from the oldest),
+        whether more follow them, and the gap flag."""
 
     @abstractmethod
     async def info(self, channel: str) -> ChannelInfo | None:
@@ -185,7 +232,7 @@ class Backend(ABC):
         """
         if last_id is not None:
             parse_message_id(last_id)
-        subscription = Subscription(channel, sink)
+        subscription = Subscription(channel, sink, self.config.buffer_length)
         subscribers = self._local.setdefault(channel, set())
         subscribers.add(subscription)
         try:
@@ -196,18 +243,38 @@ class Backend(ABC):
             if last_id is None and start is Start.NEWEST:
                 backlog = Backlog(messages=[], gap=False)
             else:
-                backlog = await self.read_since(channel, last_id)
+                backlog = await self.read_since(channel, last_id, self.config.backlog_page)
         except BaseException:
             feed = self._feeds.get(channel)
             if feed is not None and feed.done() and (feed.cancelled() or feed.exception()):
                 del self._feeds[channel]  # a failed feed: the next subscriber tries again
             await self._forget(subscription, counted=False)
             raise
-        subscription.start(backlog, last_id)
+        subscription.resume_from(last_id)
+        if subscription.deliver(backlog, last_id):
+            subscription.go_live()
+        else:
+            subscription.catch_up = asyncio.ensure_future(self._catch_up(subscription))
         return subscription
+
+    async def _catch_up(self, subscription: Subscription) -> None:
+        """Read and send the backlog's later pages, each once the sink has sent the last."""
+        page = self.config.backlog_page
+        try:
+            while await subscription.sink.drained():
+                after = subscription.newest_id
+                backlog = await self.read_since(subscription.channel, after, page)
+                if subscription.deliver(backlog, after):
+                    subscription.go_live()
+                    return
+        except Exception as error:  # the store failed: end it, the client resumes by id
+            reason = f"backlog could not be read ({error}); resume with your last message id"
+            subscription.sink.offer(ChannelClosed(channel=subscription.channel, reason=reason))
 
     async def unsubscribe(self, subscription: Subscription) -> None:
         """End a subscription (idempotent)."""
+        if subscription.catch_up is not None:
+            subscription.catch_up.cancel()
         await self._forget(subscription, counted=True)
 
     async def _forget(self, subscription: Subscription, *, counted: bool) -> None:

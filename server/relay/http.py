@@ -5,7 +5,7 @@ from __future__ import annotations
 from aiohttp import WSMessage, WSMsgType, web
 from pydantic import BaseModel, ConfigDict
 
-from server.relay.errors import RelayError
+from server.relay.errors import RelayError, Unavailable
 from server.relay.payloads import JSON, MSGPACK
 from server.relay.relay import Relay
 
@@ -44,6 +44,8 @@ def error_response(error: RelayError) -> web.Response:
     headers = {}
     if error.status == 401:
         headers["WWW-Authenticate"] = "Bearer"
+    if isinstance(error, Unavailable):
+        headers["Retry-After"] = str(error.retry_after)
     return web.Response(
         text=error_body(error),
         status=error.status,
@@ -62,3 +64,43 @@ def frame_message(frame: WSMessage) -> tuple[str, bytes] | None:
     if frame.type == WSMsgType.BINARY:
         return MSGPACK, frame.data
     return None
+
+
+SUBSCRIBE_ROUTE = "relay-subscribe"
+_PREFLIGHT_HEADERS = {
+    "Access-Control-Allow-Headers": "If-None-Match, If-Modified-Since, Content-Type, "
+    "Cache-Control, X-EventSource-Event, Last-Event-ID",
+    "Access-Control-Allow-Methods": "GET",
+    "Allow": "GET",
+}
+
+
+def check_origin(request: web.Request, allowed: list[str]) -> None:
+    """RelayError(403) for a page whose origin may not subscribe (no Origin: anyone may)."""
+    origin = request.headers.get("Origin")
+    if origin is not None and "*" not in allowed and origin not in allowed:
+        raise RelayError(403, f"origin {origin!r} may not subscribe here")
+
+
+async def add_cors_headers(request: web.Request, response: web.StreamResponse) -> None:
+    """Every answer to a subscriber request with an `Origin` names that origin, as nchan's do,
+    so that a page on another origin can read it (refused origins get 403 before this)."""
+    origin = request.headers.get("Origin")
+    if origin is None or request.match_info.route.name != SUBSCRIBE_ROUTE:
+        return
+    response.headers["Access-Control-Allow-Origin"] = origin
+    response.headers["Access-Control-Allow-Credentials"] = "true"
+
+
+async def preflight(request: web.Request) -> web.Response:
+    """The answer to a browser's CORS preflight (`OPTIONS`) of a subscriber request."""
+    try:
+        check_origin(request, relay_of(request).settings.allowed_origins)
+    except RelayError as error:
+        return error_response(error)
+    headers = dict(_PREFLIGHT_HEADERS)
+    origin = request.headers.get("Origin")
+    if origin is not None:
+        headers["Access-Control-Allow-Origin"] = origin
+        headers["Access-Control-Allow-Credentials"] = "true"
+    return web.Response(status=200, headers=headers)

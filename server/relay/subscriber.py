@@ -12,7 +12,7 @@ from aiohttp import web
 from server.relay.cursor import Cursor
 from server.relay.errors import RelayError
 from server.relay.eventsource import eventsource_subscriber
-from server.relay.http import error_response, relay_of
+from server.relay.http import check_origin, error_response, relay_of
 from server.relay.longpoll import longpoll_subscriber
 from server.relay.relay import check_channel
 from server.relay.websocket import websocket_subscriber
@@ -30,6 +30,7 @@ async def subscribe(request: web.Request) -> web.StreamResponse:
     is_websocket = request.headers.get("Upgrade", "").lower() == "websocket"
     is_eventsource = "text/event-stream" in request.headers.get("Accept", "")
     try:
+        check_origin(request, relay.settings.allowed_origins)
         channels = _channels(request.match_info["channels"], relay.settings.max_multiplex)
         if not (is_websocket or is_eventsource):
             if len(channels) > 1:

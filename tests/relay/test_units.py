@@ -81,9 +81,9 @@ async def test_memory_ttl_expiry_is_a_gap_only_for_what_was_missed() -> None:
     clock.now = 1005.0
     b = (await backend.publish("c", b"2", "application/json")).message
     clock.now = 1012.0  # a has expired, b has not
-    backlog = await backend.read_since("c", a.id)
+    backlog = await backend.read_since("c", a.id, 10)
     assert (backlog.gap, [m.id for m in backlog.messages]) == (False, [b.id])
-    backlog = await backend.read_since("c", "999:0")
+    backlog = await backend.read_since("c", "999:0", 10)
     assert (backlog.gap, [m.id for m in backlog.messages]) == (True, [b.id])
     clock.now = 1020.0
     assert await backend.info("c") is None  # nothing buffered, nobody subscribed
