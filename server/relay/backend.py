@@ -39,7 +39,9 @@ Backlogs go out a page at a time (`BackendConfig.backlog_page` messages): the ne
 only once the sink has sent the previous one (`Sink.drained`), so a subscriber that never reads
 holds one page, not the whole buffer, however long the buffer and however many such readers.
 Live messages that arrive meanwhile wait in the subscription, at most `buffer_length` of them:
-any it had to drop are still in the buffer, and the catch-up reads on until it has them.
+any it had to drop are still in the buffer, and the catch-up reads on until it has them. At most
+`backlog_reads` pages are being read at once in a process, so a crowd arriving together does
+not materialize a crowd of pages before the send queues' byte budget can refuse them.
 """
 
 from __future__ import annotations
@@ -72,6 +74,9 @@ class BackendConfig(BaseModel):
     buffer_length: int = Field(default=100, ge=1, description="messages kept per channel")
     message_ttl: float = Field(default=3600.0, gt=0, description="seconds a message is kept")
     backlog_page: int = Field(default=4, ge=1, description="messages read at a time to resume")
+    backlog_reads: int = Field(
+        default=8, ge=1, description="backlog pages being read at once in one process"
+    )
 
 
 class Start(StrEnum):
@@ -84,8 +89,11 @@ class Start(StrEnum):
 class Sink(Protocol):
     """Where a subscription's events go, typically a connection's bounded send queue."""
 
-    def offer(self, event: Event) -> None:
-        """Take one event without waiting (a full sink closes its connection instead)."""
+    def offer(self, event: Event, shared: bool = True) -> None:
+        """Take one event without waiting (a full sink closes its connection instead).
+
+        `shared`: the same object goes to every local subscriber (live messages); False for
+        messages read for this subscriber alone (its backlog), which it alone keeps alive."""
 
     async def drained(self) -> bool:
         """Wait until everything offered has been sent on; False if the sink has closed."""
@@ -129,13 +137,13 @@ class Subscription:
         else:
             self._offer(event)
 
-    def _offer(self, event: Event) -> None:
+    def _offer(self, event: Event, shared: bool = True) -> None:
         if isinstance(event, StoredMessage):
             if event.key > self._newest:
                 self._newest = event.key
-                self.sink.offer(event)
+                self.sink.offer(event, shared)
         else:
-            self.sink.offer(event)
+            self.sink.offer(event, shared)
 
     def resume_from(self, last_id: str | None) -> None:
         if last_id is not None:
@@ -150,7 +158,7 @@ class Subscription:
         if backlog.gap and after is not None:
             self.sink.offer(Gap(channel=self.channel, last_id=after))
         for message in backlog.messages:
-            self._offer(message)
+            self._offer(message, shared=False)
         caught_up = not backlog.more and not self._dropped
         self._dropped = False
         return caught_up
@@ -169,6 +177,7 @@ class Backend(ABC):
         self.config = config
         self._local: dict[str, set[Subscription]] = {}
         self._feeds: dict[str, asyncio.Future[None]] = {}
+        self._backlog_reads = asyncio.Semaphore(config.backlog_reads)
 
     # ----- storage: implemented by each backend -------------------------------------------
     @abstractmethod
@@ -243,7 +252,7 @@ class Backend(ABC):
             if last_id is None and start is Start.NEWEST:
                 backlog = Backlog(messages=[], gap=False)
             else:
-                backlog = await self.read_since(channel, last_id, self.config.backlog_page)
+                backlog = await self._read_page(channel, last_id)
         except BaseException:
             feed = self._feeds.get(channel)
             if feed is not None and feed.done() and (feed.cancelled() or feed.exception()):
@@ -259,17 +268,24 @@ class Backend(ABC):
 
     async def _catch_up(self, subscription: Subscription) -> None:
         """Read and send the backlog's later pages, each once the sink has sent the last."""
-        page = self.config.backlog_page
         try:
             while await subscription.sink.drained():
-                after = subscription.newest_id
-                backlog = await self.read_since(subscription.channel, after, page)
-                if subscription.deliver(backlog, after):
+                if await self._deliver_next_page(subscription):
                     subscription.go_live()
                     return
         except Exception as error:  # the store failed: end it, the client resumes by id
             reason = f"backlog could not be read ({error}); resume with your last message id"
             subscription.sink.offer(ChannelClosed(channel=subscription.channel, reason=reason))
+
+    async def _deliver_next_page(self, subscription: Subscription) -> bool:
+        """Read and deliver one page; True once caught up. (A function of its own so that the
+        page is not held while the loop above waits for the sink to send it.)"""
+        after = subscription.newest_id
+        return subscription.deliver(await self._read_page(subscription.channel, after), after)
+
+    async def _read_page(self, channel: str, after: str | None) -> Backlog:
+        async with self._backlog_reads:
+            return await self.read_since(channel, after, self.config.backlog_page)
 
     async def unsubscribe(self, subscription: Subscription) -> None:
         """End a subscription (idempotent)."""

@@ -21,7 +21,7 @@ from aiohttp import web
 from server.relay.cursor import Cursor
 from server.relay.errors import RelayError
 from server.relay.frames import notice, sse_event
-from server.relay.http import error_response, relay_of
+from server.relay.http import error_response, limit_socket_buffer, relay_of
 from server.relay.messages import Event, Gap, StoredMessage
 from server.relay.payloads import as_text
 from server.relay.subscribing import subscribe_all, unsubscribe_all
@@ -56,6 +56,7 @@ async def eventsource_subscriber(
     keepalive = relay.settings.keepalive
     try:
         await response.prepare(request)
+        limit_socket_buffer(request, relay.settings.socket_buffer_bytes)
         await response.write(KEEPALIVE)  # headers and a first byte: the stream is open
         while True:
             try:

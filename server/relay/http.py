@@ -34,6 +34,16 @@ def bearer_token(request: web.Request) -> str | None:
     return request.query.get("token")
 
 
+def limit_socket_buffer(request: web.Request, high: int) -> None:
+    """Make the connection's writes wait once `high` bytes are buffered in the process.
+
+    asyncio's default of 64 KiB, plus the message being written, is per connection: with
+    thousands of subscribers that never read, it alone would add up to hundreds of MB.
+    """
+    if request.transport is not None:
+        request.transport.set_write_buffer_limits(high=high)
+
+
 def error_body(error: RelayError) -> str:
     """The JSON that says why a request was refused."""
     return ErrorBody(error=error.reason, status=error.status).model_dump_json()

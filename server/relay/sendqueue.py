@@ -8,7 +8,10 @@ Full means either bound: `limit` events, or `max_bytes` of message data waiting 
 (one message is always let in, so no message is too large for an idle queue). Beyond each
 connection's own bound, every queue of the process draws on one `OutputBudget`: when the sum
 over all connections would pass it, the connection asking for more is closed instead, so a
-crowd of readers that never read cannot hold more than the budget between them.
+crowd of readers that never read cannot hold more than the budget between them. The budget
+counts what a queue really holds: a live message is one object handed to every subscriber of
+the channel (its data counted once, by nobody's queue), a backlog page is read for this
+subscriber alone (its data counted in full).
 
 A connection that can write at once (WebSocket) passes `write_now`: while nothing is queued or
 being sent, an offered event goes straight to the socket, without waking the writer task.
@@ -33,7 +36,7 @@ EVENT_OVERHEAD = 256  # bytes an event costs beside its data (its model, the que
 
 
 def event_size(event: Event) -> int:
-    """The bytes a queued event holds, as the byte bounds count them."""
+    """The bytes of a queued event, as the connection's own bound counts them."""
     return EVENT_OVERHEAD + (len(event.data) if isinstance(event, StoredMessage) else 0)
 
 
@@ -81,6 +84,8 @@ class SendQueue:
         self._sending = False  # the writer holds a batch it has not finished sending
         self._queued_bytes = 0  # of `_events`
         self._sending_bytes = 0  # of the batch the writer holds
+        self._queued_charge = 0  # what `_events` draw on the budget
+        self._sending_charge = 0  # what the writer's batch draws on it
         self._discarded = False
         self.closed: ChannelClosed | None = None
 
@@ -89,8 +94,9 @@ class SendQueue:
         """Bytes of events waiting or being sent (what the byte bounds count)."""
         return self._queued_bytes + self._sending_bytes
 
-    def offer(self, event: Event) -> None:
-        """Queue one event (the `Sink` protocol); past a bound, close instead."""
+    def offer(self, event: Event, shared: bool = True) -> None:
+        """Queue one event (the `Sink` protocol); past a bound, close instead. `shared`: the
+        same object goes to other subscribers too (a live message), False for a backlog's."""
         if self.closed is not None or self._discarded:
             return
         if isinstance(event, ChannelClosed):
@@ -103,18 +109,20 @@ class SendQueue:
         ):
             return
         else:
-            self._queue(event)
+            self._queue(event, shared)
 
-    def _queue(self, event: Event) -> None:
+    def _queue(self, event: Event, shared: bool) -> None:
         size = event_size(event)
+        charge = EVENT_OVERHEAD if shared else size
         held = self.held_bytes
         if len(self._events) >= self.limit or (held and held + size > self.max_bytes):
             self.close(ChannelClosed(channel=event.channel, reason=OVERFLOW_REASON))
-        elif not self._budget.take(size):
+        elif not self._budget.take(charge):
             self.close(ChannelClosed(channel=event.channel, reason=BUDGET_REASON))
         else:
             self._events.append(event)
             self._queued_bytes += size
+            self._queued_charge += charge
             self._wake()
 
     def close(self, why: ChannelClosed) -> None:
@@ -126,8 +134,9 @@ class SendQueue:
 
     def discard(self) -> None:
         """The connection has ended: drop what it holds and return it to the budget."""
-        self._budget.give(self.held_bytes)
+        self._budget.give(self._queued_charge + self._sending_charge)
         self._events, self._queued_bytes, self._sending_bytes = [], 0, 0
+        self._queued_charge = self._sending_charge = 0
         self._discarded = True
         self._settle(False)
 
@@ -146,8 +155,8 @@ class SendQueue:
 
     def _sent(self) -> None:
         """The writer has sent the batch it took."""
-        self._budget.give(self._sending_bytes)
-        self._sending_bytes = 0
+        self._budget.give(self._sending_charge)
+        self._sending_bytes = self._sending_charge = 0
         self._sending = False
         if not self._events:
             self._settle(True)
@@ -155,6 +164,7 @@ class SendQueue:
     def _hand_over(self) -> list[Event]:
         batch, self._events = self._events, []
         self._sending_bytes, self._queued_bytes = self._queued_bytes, 0
+        self._sending_charge, self._queued_charge = self._queued_charge, 0
         self._sending = bool(batch)
         return batch
 

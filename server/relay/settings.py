@@ -20,8 +20,14 @@ class RelaySettings(BaseModel):
     send_queue_bytes: int = Field(
         default=1024 * 1024, ge=1, description="bytes queued per connection before it is closed"
     )
+    socket_buffer_bytes: int = Field(
+        default=16 * 1024,
+        ge=1024,
+        description="bytes a subscriber's socket may buffer in the process before writes wait "
+        "(the transport's high-water mark; the kernel's buffers come on top)",
+    )
     send_budget_bytes: int = Field(
-        default=16 * 1024 * 1024,
+        default=8 * 1024 * 1024,
         ge=1,
         description="bytes queued over all connections of the process; past it, the connection "
         "asking for more is closed",

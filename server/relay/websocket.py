@@ -31,7 +31,7 @@ from server.relay.frames import (
     notice,
     websocket_frame,
 )
-from server.relay.http import bearer_token, frame_message, relay_of
+from server.relay.http import bearer_token, frame_message, limit_socket_buffer, relay_of
 from server.relay.messages import DELETED, SHUTDOWN, ChannelClosed, Event, StoredMessage
 from server.relay.sendqueue import SendQueue
 from server.relay.subscribing import subscribe_all, unsubscribe_all
@@ -140,6 +140,7 @@ async def websocket_subscriber(
     transport = request.transport
     if transport is None:
         return ws  # the client left during the handshake
+    limit_socket_buffer(request, settings.socket_buffer_bytes)
     writer = _Writer(ws, transport, cursor, ws.ws_protocol == META_PROTOCOL)
     queue = relay.send_queue(_direct_path(ws, writer), lambda: writer.start(queue))
     try:

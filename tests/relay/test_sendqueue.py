@@ -108,11 +108,11 @@ async def test_a_queue_is_bounded_in_bytes_but_always_takes_one_message() -> Non
 async def test_every_queue_draws_on_one_budget_and_gives_back_what_it_sent() -> None:
     budget = OutputBudget(3 * (EVENT_OVERHEAD + 1001))
     first, second = (SendQueue(100, ROOMY, budget) for _ in range(2))
-    first.offer(message(0, 1000))
-    first.offer(message(1, 1000))
-    second.offer(message(2, 1000))
+    first.offer(message(0, 1000), shared=False)
+    first.offer(message(1, 1000), shared=False)
+    second.offer(message(2, 1000), shared=False)
     assert budget.used == budget.total
-    second.offer(message(3, 1000))  # over the shared budget: this connection is closed
+    second.offer(message(3, 1000), shared=False)  # over the budget: this connection closes
     assert second.closed is not None and second.closed.reason == BUDGET_REASON
     assert numbers(await first.take()) == [0, 1]
     waiting = asyncio.ensure_future(first.take())  # the batch was sent: its bytes come back
@@ -136,3 +136,15 @@ async def test_drained_waits_until_the_writer_has_sent_everything() -> None:
     queue.close(ChannelClosed(channel="c", reason="deleted"))
     assert not await queue.drained()
     assert await taking == []
+
+
+def test_a_live_message_handed_to_many_queues_is_charged_once_not_per_queue() -> None:
+    """A fan-out gives the same object to every subscriber's queue: the budget counts each
+    queue's slot, not the data again, so a burst to many slow sockets does not close them."""
+    budget = OutputBudget(100 * (EVENT_OVERHEAD + 10_000))
+    queues = [SendQueue(10, ROOMY, budget) for _ in range(1000)]
+    shared = message(0, 10_000)
+    for queue in queues:
+        queue.offer(shared)
+    assert all(queue.closed is None for queue in queues)
+    assert budget.used == 1000 * EVENT_OVERHEAD

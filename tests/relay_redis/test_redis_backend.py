@@ -32,7 +32,7 @@ class Collector:
         self.events: list[Event] = []
         self._changed = asyncio.Event()
 
-    def offer(self, event: Event) -> None:
+    def offer(self, event: Event, shared: bool = True) -> None:
         self.events.append(event)
         self._changed.set()
 
