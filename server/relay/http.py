@@ -77,7 +77,7 @@ def frame_message(frame: WSMessage) -> tuple[str, bytes] | None:
 
 
 SUBSCRIBE_ROUTE = "relay-subscribe"
-_PREFLIGHT_HEADERS = {
+PREFLIGHT_HEADERS = {
     "Access-Control-Allow-Headers": "If-None-Match, If-Modified-Since, Content-Type, "
     "Cache-Control, X-EventSource-Event, Last-Event-ID",
     "Access-Control-Allow-Methods": "GET",
@@ -100,17 +100,3 @@ async def add_cors_headers(request: web.Request, response: web.StreamResponse) -
         return
     response.headers["Access-Control-Allow-Origin"] = origin
     response.headers["Access-Control-Allow-Credentials"] = "true"
-
-
-async def preflight(request: web.Request) -> web.Response:
-    """The answer to a browser's CORS preflight (`OPTIONS`) of a subscriber request."""
-    try:
-        check_origin(request, relay_of(request).settings.allowed_origins)
-    except RelayError as error:
-        return error_response(error)
-    headers = dict(_PREFLIGHT_HEADERS)
-    origin = request.headers.get("Origin")
-    if origin is not None:
-        headers["Access-Control-Allow-Origin"] = origin
-        headers["Access-Control-Allow-Credentials"] = "true"
-    return web.Response(status=200, headers=headers)

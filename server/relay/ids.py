@@ -20,7 +20,9 @@ _CHANNEL = r"[A-Za-z0-9_-]{1,64}"
 CHANNEL_PATTERN = f"^{_CHANNEL}$"  # for JSON Schema and pydantic, whose `$` is the very end
 ChannelId = Annotated[str, StringConstraints(pattern=CHANNEL_PATTERN)]
 _CHANNEL_RE = re.compile(_CHANNEL)
-_MESSAGE_ID_RE = re.compile(r"(\d{1,12}):(\d{1,12})")
+_MESSAGE_ID = r"(\d{1,12}):(\d{1,12})"
+MESSAGE_ID_PATTERN = f"^{_MESSAGE_ID}$"
+_MESSAGE_ID_RE = re.compile(_MESSAGE_ID)
 
 MessageKey = tuple[int, int]
 

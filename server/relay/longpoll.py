@@ -4,8 +4,9 @@ As in nchan, a response carries the message's id split over two cache headers: `
 (its seconds, as an HTTP date) and `Etag` (its tag). The client sends them back as
 `If-Modified-Since` and `If-None-Match` and gets the next message, at once if it is buffered,
 else when it is published. Without them it gets the first message per `first_message`.
-`?last_event_id=<id>` is accepted too (empty: as if absent). No message within the timeout:
-408, try again.
+`?last_event_id=<id>` is accepted too (empty: as if absent). As HTTP says of conditional
+requests, an `If-Modified-Since` that is not an HTTP date is ignored, and so is an
+`If-None-Match` that is not a message tag. No message within the timeout: 408, try again.
 A gap is reported in the `X-Relay-Gap` header (the id that expired) on the next message; a
 channel deleted while waiting answers 410.
 """
@@ -31,18 +32,15 @@ def requested_id(request: web.Request) -> str | None:
     """The id the client has seen, from nchan's cache headers or `?last_event_id=`."""
     if request.query.get("last_event_id"):
         return request.query["last_event_id"]
-    since = request.headers.get("If-Modified-Since")
-    if since is None:
-        return None
     try:
-        seconds = int(parsedate_to_datetime(since).timestamp())
-    except (TypeError, ValueError):
-        raise RelayError(400, f"If-Modified-Since {since!r} is not an HTTP date") from None
+        seconds = int(parsedate_to_datetime(request.headers.get("If-Modified-Since")).timestamp())
+    except (TypeError, ValueError, IndexError, OverflowError):
+        return None  # absent or not an HTTP date: ignored (RFC 9110, section 13.1.3)
+    if seconds < 0:
+        return None
     etag = request.headers.get("If-None-Match", "").strip().removeprefix("W/").strip('"')
-    if not etag:
+    if not (etag.isascii() and etag.isdigit() and len(etag) <= 12):
         return format_message_id((seconds, _WHOLE_SECOND))
-    if not etag.isdigit():
-        raise RelayError(400, f"If-None-Match {etag!r} is not a message tag")
     return format_message_id((seconds, int(etag)))
 
 

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from aiohttp import web
 
-from server.relay.http import RELAY_KEY, SUBSCRIBE_ROUTE, add_cors_headers, preflight
+from server.relay.http import RELAY_KEY, SUBSCRIBE_ROUTE, add_cors_headers
 from server.relay.openapi import openapi_document
 from server.relay.publisher import channel_info, delete_channel, publish
 from server.relay.relay import Relay
-from server.relay.subscriber import subscribe
+from server.relay.subscriber import preflight, subscribe
 
 
 async def _openapi(request: web.Request) -> web.Response:

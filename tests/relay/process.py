@@ -1,13 +1,14 @@
 """The relay as a real server process, for tests that measure it from outside (its RSS).
 
-`python -m tests.relay.process PORT [REDIS_URL]` serves the relay app with the test secret and
-default settings otherwise, except that keepalives are off: the clients of these tests answer
-no WebSocket ping, and a missed pong would end their connections early. `RelayProcess` starts
-that on a free port and stops it.
+`python -m tests.relay.process PORT SETTINGS_JSON [REDIS_URL]` serves the relay app with the
+test secret, the given `RelaySettings` overrides and defaults otherwise, except that keepalives
+are off: the clients of these tests answer no WebSocket ping, and a missed pong would end their
+connections early. `RelayProcess` starts that on a free port and stops it.
 """
 
 from __future__ import annotations
 
+import json
 import signal
 import socket
 import subprocess
@@ -15,6 +16,7 @@ import sys
 import time
 from pathlib import Path
 from types import TracebackType
+from typing import Any
 
 from tests.redis_server import free_port
 
@@ -33,9 +35,9 @@ def rss_bytes(pid: int) -> int:
 class RelayProcess:
     """`with RelayProcess(redis_url) as server:` a relay listening on `server.port`."""
 
-    def __init__(self, redis_url: str | None) -> None:
+    def __init__(self, redis_url: str | None, **settings: Any) -> None:
         self.port = free_port()
-        args = [sys.executable, "-m", "tests.relay.process", str(self.port)]
+        args = [sys.executable, "-m", "tests.relay.process", str(self.port), json.dumps(settings)]
         self.process = subprocess.Popen([*args, *([redis_url] if redis_url else [])], cwd=ROOT)
 
     @property
@@ -76,8 +78,9 @@ def main() -> None:
     from server.relay.settings import RelaySettings
     from tests.relay.conftest import SECRET
 
-    port, redis_url = int(sys.argv[1]), (sys.argv[2] if len(sys.argv) > 2 else None)
-    relay = RelaySettings(auth_secret=SECRET, keepalive=None)
+    port, overrides = int(sys.argv[1]), json.loads(sys.argv[2])
+    redis_url = sys.argv[3] if len(sys.argv) > 3 else None
+    relay = RelaySettings(**{"auth_secret": SECRET, "keepalive": None, **overrides})
     settings = AppSettings(relay=relay, redis_url=redis_url)
     web.run_app(create_app(settings), host="127.0.0.1", port=port, print=None)
 
