@@ -8,8 +8,8 @@ Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluste
 - `relay:{c}:meta`    hash: `last` id ever published, newest `evicted` id (for gap notices),
   `requested` time of the last read.
 - `relay:{c}:subs`    hash: replica id -> its local subscriber count.
-- `relay:deleted`     a short stream of deletions (channel, deleting replica), read by every
-  replica; `relay:wake:<replica>` wakes one replica's reader (see `server.relay.redis_reader`).
+- `relay:news`        a stream of which channel each publish and delete touched (for a delete,
+  also the deleting replica), read by every replica (see `server.relay.redis_reader`).
 - `relay:replicas`    sorted set: replica id -> Redis time of its last heartbeat; counts of
   replicas silent for `ALIVE_S` are ignored, so a crashed replica's subscribers stop counting.
 
@@ -18,11 +18,13 @@ replicas). With `appendonly yes` and `appendfsync always` (docker-compose.yml, t
 fixture) a publish that was answered is on disk, and survives a Redis restart.
 
 Fan-out: each replica runs one reader (`server.relay.redis_reader`) on one connection for all
-channels with local subscribers. It blocks in one `XREAD` over their streams and hands each
-new message to every local subscriber (`Backend._fan_out`), so Redis is read once per message
-per replica, never once per subscriber, and the replica's Redis connections do not grow with
-its channels. While Redis cannot be reached, every operation raises `Unavailable` (503 with
-Retry-After to a publisher): nothing is half-done, and the reader retries on its own.
+channels with local subscribers. It blocks in one `XREAD` on `relay:news`, fetches the new
+messages of its channels that have some, and hands each to every local subscriber
+(`Backend._fan_out`), so Redis is read once per message per replica, never once per
+subscriber, and the replica's Redis connections do not grow with its channels.
+
+While Redis cannot be reached, every operation raises `Unavailable` (503 with Retry-After to a
+publisher): nothing is half-done, and the reader retries on its own.
 """
 
 from __future__ import annotations
@@ -43,8 +45,8 @@ from server.relay.errors import Unavailable
 from server.relay.ids import parse_message_id
 from server.relay.messages import DELETED, Backlog, ChannelInfo, Published, StoredMessage
 from server.relay.redis_reader import (
-    DELETED_KEPT,
-    DELETED_KEY,
+    NEWS_KEPT,
+    NEWS_KEY,
     REDIS_DOWN,
     Entries,
     ReplicaReader,
@@ -113,7 +115,8 @@ local function subscribers(subs, replicas, now, alive)
 end
 """
 
-# KEYS: stream meta subs replicas; ARGV: maxlen ttl alive idle_s content_type data event
+# KEYS: stream meta subs replicas news
+# ARGV: maxlen ttl alive idle_s content_type data event channel news_kept
 _PUBLISH = (
     _LUA_HELPERS
     + """
@@ -129,6 +132,7 @@ if ARGV[7] ~= '' then
   table.insert(fields, ARGV[7])
 end
 local id = redis.call('XADD', KEYS[1], seconds .. '-*', unpack(fields))
+redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[9], '*', 'c', ARGV[8])
 redis.call('HSET', KEYS[2], 'last', id)
 evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
 redis.call('EXPIRE', KEYS[1], ARGV[4])
@@ -166,7 +170,7 @@ return {messages, meta[2] or '', subs, meta[1] or '', string.format('%.6f', now)
 """
 )
 
-# KEYS: stream meta subs replicas deleted; ARGV: alive channel replica kept
+# KEYS: stream meta subs replicas news; ARGV: alive channel replica news_kept
 _DELETE = (
     _LUA_HELPERS
     + """
@@ -279,8 +283,17 @@ class RedisBackend(Backend):
         keys = _keys(channel)
         with _store_errors():
             reply = await self._publish(
-                keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY],
-                args=[*self._bounds, ALIVE_S, IDLE_KEY_S, content_type, data, event or ""],
+                keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY, NEWS_KEY],
+                args=[
+                    *self._bounds,
+                    ALIVE_S,
+                    IDLE_KEY_S,
+                    content_type,
+                    data,
+                    event or "",
+                    channel,
+                    NEWS_KEPT,
+                ],
             )
         stream_id, now, messages, requested, subscribers = reply
         message = StoredMessage(
@@ -323,10 +336,10 @@ class RedisBackend(Backend):
         keys = _keys(channel)
         with _store_errors():
             existed = await self._delete(
-                keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY, DELETED_KEY],
-                args=[ALIVE_S, channel, self.replica, DELETED_KEPT],
+                keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY, NEWS_KEY],
+                args=[ALIVE_S, channel, self.replica, NEWS_KEPT],
             )
-        # Local subscribers now; other replicas' readers see the entry in `relay:deleted`.
+        # Local subscribers now; other replicas' readers see the entry in `relay:news`.
         closed = await self._end_local(channel, DELETED)
         return bool(existed) or closed > 0
 

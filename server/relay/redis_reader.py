@@ -1,24 +1,20 @@
 """One blocking Redis reader per replica, for all of the replica's channels.
 
-A replica with subscribers on a thousand channels reads them all on one connection: one
-`XREAD BLOCK` names every channel stream with local subscribers (each from the newest entry the
-replica has seen), plus two streams of its own:
+Every publish and every delete, from any replica, also appends a small entry to one stream,
+`relay:news`: the channel's name (and, for a delete, the deleting replica). Each replica blocks
+on that single stream with one `XREAD` on one connection, whatever its number of channels. When
+news arrives, it fetches the new entries of those of its channels that have some, in one
+pipelined round trip (`XRANGE` after the newest id it holds for each), and hands each message to
+its local subscribers. A thousand channels cost one blocked read and one fetch per batch of
+news, not a thousand reads; Redis' connection count per replica is fixed (this reader plus the
+backend's command pool), and a new channel needs no wake-up: its position is recorded and the
+next news about it is read like any other.
 
-- `relay:wake:<replica>`: the replica adds an entry when its channel set grows, which ends the
-  blocked read at once; the reader then blocks again with the new set. The entry stays, so a
-  read sent just before the change still returns at once: no message of a new channel waits.
-  Wakes are coalesced: while one is pending (the reader has not yet rebuilt its read), further
-  arrivals add nothing.
-- `relay:deleted`: one entry per channel deleted anywhere (its channel and the deleting
-  replica), so that every replica closes its own subscribers of that channel.
-
-Redis' connection count per replica is therefore fixed (this reader plus the command pool),
-whatever the number of channels, and one read round trip serves every channel that has news.
-After a Redis restart the reader reconnects and goes on from the positions it holds, so
-subscribers see neither a gap nor a duplicate.
-
-A channel that leaves the set is simply not named in the next read (no wake is needed); entries
-of a channel read for an earlier generation of its subscribers are dropped (`Position` identity).
+The per-channel positions are the truth; the news only says where to look. So nothing is lost
+when news is: after a Redis outage, or if the news stream was trimmed past the reader's position
+(it keeps about `NEWS_KEPT` entries), the reader sweeps every local channel from its position.
+Entries of a channel read for an earlier generation of its subscribers are dropped (`Position`
+identity), and a channel's entries are always delivered in stream order, each once.
 """
 
 from __future__ import annotations
@@ -26,7 +22,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 
 import redis.asyncio as aioredis
 from redis.asyncio.retry import Retry
@@ -36,10 +32,10 @@ from redis.exceptions import TimeoutError as RedisTimeoutError
 
 log = logging.getLogger(__name__)
 
-DELETED_KEY = "relay:deleted"
-DELETED_KEPT = 1000  # entries of the delete stream kept (approximately)
+NEWS_KEY = "relay:news"
+NEWS_KEPT = 100_000  # entries of the news stream kept (approximately)
 READ_BLOCK_MS = 30_000  # an idle reader re-blocks this often
-READ_BATCH = 512  # entries per stream per read
+READ_BATCH = 1024  # news entries per read, and messages per channel per fetch
 RECONNECT_MAX_S = 1.0
 STOP_S = 1.0
 REDIS_DOWN = (RedisConnectionError, RedisTimeoutError, OSError)
@@ -55,10 +51,6 @@ def channel_key(channel: str, part: str) -> str:
 def stream_key(channel: str) -> str:
     """The Redis stream holding a channel's buffer."""
     return channel_key(channel, "stream")
-
-
-def wake_key(replica: str) -> str:
-    return f"relay:wake:{replica}"
 
 
 def stream_order(stream_id: bytes) -> tuple[int, int]:
@@ -85,7 +77,7 @@ class Position:
 
 
 class ReplicaReader:
-    """Reads every channel of one replica with a single blocking connection."""
+    """Reads every channel of one replica through one blocking connection on `relay:news`."""
 
     def __init__(
         self,
@@ -96,7 +88,7 @@ class ReplicaReader:
         on_deleted: Callable[[str], None],
     ) -> None:
         self.replica = replica
-        self._commands = commands  # the backend's pool, for wakes and starting positions
+        self._commands = commands  # the backend's pool: positions and fetches
         self._on_messages = on_messages
         self._on_deleted = on_deleted
         self._client = aioredis.Redis.from_url(
@@ -108,14 +100,10 @@ class ReplicaReader:
             driver_info=None,
         )
         self._positions: dict[str, Position] = {}
-        self._own: dict[str, bytes] = {}  # wake and delete streams -> position
-        self._wake_pending = False
+        self._news_at = b"0-0"
+        self._sweep = False  # news may have been missed: fetch every channel
         self._task: asyncio.Task[None] | None = None
         self._starting = asyncio.Lock()
-
-    @property
-    def channels(self) -> int:
-        return len(self._positions)
 
     async def add(self, channel: str) -> None:
         """Read `channel` from its newest entry on. Returns once every later entry is certain
@@ -123,30 +111,17 @@ class ReplicaReader:
         await self._start()
         newest = await self._commands.xrevrange(stream_key(channel), count=1)
         self._positions[channel] = Position(newest[0][0] if newest else b"0-0")
-        if not self._wake_pending:
-            self._wake_pending = True
-            try:
-                await self._commands.xadd(wake_key(self.replica), {"w": 1}, maxlen=8)
-            except BaseException:
-                self._wake_pending = False  # the position holds: the next wake covers it
-                raise
 
     def remove(self, channel: str) -> None:
-        """Stop reading `channel` (from the next read on)."""
+        """Stop reading `channel`."""
         self._positions.pop(channel, None)
 
     async def _start(self) -> None:
         async with self._starting:
             if self._task is not None:
                 return
-            async with self._commands.pipeline(transaction=False) as pipe:
-                pipe.xrevrange(wake_key(self.replica), count=1)
-                pipe.xrevrange(DELETED_KEY, count=1)
-                wake, deleted = await pipe.execute()
-            self._own = {
-                wake_key(self.replica): wake[0][0] if wake else b"0-0",
-                DELETED_KEY: deleted[0][0] if deleted else b"0-0",
-            }
+            newest = await self._commands.xrevrange(NEWS_KEY, count=1)
+            self._news_at = newest[0][0] if newest else b"0-0"
             self._task = asyncio.create_task(self._run(), name=f"relay-reader-{self.replica}")
 
     async def close(self) -> None:
@@ -158,8 +133,7 @@ class ReplicaReader:
                 await connection.disconnect(nowait=True)
             await asyncio.wait({self._task}, timeout=STOP_S)
         with contextlib.suppress(*REDIS_DOWN):
-            await self._commands.delete(wake_key(self.replica))
-        await self._client.aclose()
+            await self._client.aclose()
 
     async def _run(self) -> None:
         try:
@@ -172,33 +146,72 @@ class ReplicaReader:
     async def _loop(self) -> None:
         delay = 0.05
         while not cancelled():
-            self._wake_pending = False
-            reading = {stream_key(name): (name, at) for name, at in self._positions.items()}
-            streams = {**self._own, **{key: at.stream_id for key, (_, at) in reading.items()}}
             try:
-                reply = await self._client.xread(streams, count=READ_BATCH, block=READ_BLOCK_MS)
+                if self._sweep:
+                    self._sweep = False
+                    await self._fetch(list(self._positions))
+                await self._read_news()
             except REDIS_DOWN as error:
                 if cancelled():
                     break
+                self._sweep = True
                 log.warning("relay reader: Redis unavailable (%s), retrying", error)
                 await asyncio.sleep(delay)
                 delay = min(delay * 2, RECONNECT_MAX_S)
                 continue
             delay = 0.05
-            if cancelled():
-                break
-            deleted: Entries = []
-            for raw_key, entries in reply or ():
-                key = raw_key.decode()
-                if key in self._own:
-                    self._own[key] = entries[-1][0]
-                    if key == DELETED_KEY:
-                        deleted = entries
-                else:
-                    self._deliver(*reading[key], entries)
-            for _, fields in deleted:  # after the messages that preceded the delete
+
+    async def _read_news(self) -> None:
+        read_from = self._news_at
+        reply = await self._client.xread(
+            {NEWS_KEY: read_from}, count=READ_BATCH, block=READ_BLOCK_MS
+        )
+        if cancelled() or not reply:
+            return
+        entries = reply[0][1]
+        self._news_at = entries[-1][0]
+        with_news: dict[str, None] = {}  # ordered, without repeats
+        deleted = []
+        for _, fields in entries:
+            channel = fields[b"c"].decode()
+            if channel not in self._positions:
+                continue
+            if b"r" in fields:
                 if fields[b"r"].decode() != self.replica:  # our own deletes closed at once
-                    self._on_deleted(fields[b"c"].decode())
+                    deleted.append(channel)
+            else:
+                with_news[channel] = None
+        if await self._fetch(with_news, trimmed_after=read_from):
+            await self._fetch(list(self._positions))  # news was lost: sweep everything
+        for channel in deleted:  # after the messages published before the delete
+            self._on_deleted(channel)
+
+    async def _fetch(self, channels: Iterable[str], trimmed_after: bytes | None = None) -> bool:
+        """Fetch and deliver the new entries of `channels` (all of them, page after page).
+
+        With `trimmed_after`, also say whether the news stream no longer holds the entry after
+        that id (it was trimmed while unread): True means some news was lost.
+        """
+        pending = [(name, self._positions[name]) for name in channels if name in self._positions]
+        trimmed = False
+        while pending or trimmed_after is not None:
+            async with self._commands.pipeline(transaction=False) as pipe:
+                for channel, at in pending:
+                    pipe.xrange(stream_key(channel), b"(" + at.stream_id, "+", count=READ_BATCH)
+                if trimmed_after is not None:
+                    pipe.xrange(NEWS_KEY, "-", "+", count=1)
+                replies = await pipe.execute()
+            if trimmed_after is not None:
+                oldest = replies.pop()
+                trimmed = bool(oldest) and stream_order(oldest[0][0]) > stream_order(trimmed_after)
+                trimmed_after = None
+            full = []
+            for (channel, at), entries in zip(pending, replies, strict=True):
+                self._deliver(channel, at, entries)
+                if len(entries) == READ_BATCH:
+                    full.append((channel, at))
+            pending = full
+        return trimmed
 
     def _deliver(self, channel: str, at: Position, entries: Entries) -> None:
         if self._positions.get(channel) is not at:
