@@ -23,7 +23,7 @@ What a backend must guarantee
 4. **Explicit gaps.** When a message newer than `last_id` has been evicted, the subscriber cannot
    get everything it missed: `read_since` sets `Backlog.gap`, and `subscribe` sends a `Gap`
    event before the remaining messages. Never jump silently over lost messages.
-5. **One reader per channel per process.** Subscribers of one channel in one process share one
+5. **One feed per channel per process.** Subscribers of one channel in one process share one
    feed: `_open_feed(channel)` runs when the first local subscriber arrives and `_close_feed`
    when the last leaves; the feed calls `_fan_out(channel, event)` once per message, which hands
    the same event object to every local subscriber. Never one backend read per subscriber.
