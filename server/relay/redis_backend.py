@@ -45,6 +45,7 @@ from server.relay.errors import Unavailable
 from server.relay.ids import parse_message_id
 from server.relay.messages import DELETED, Backlog, ChannelInfo, Published, StoredMessage
 from server.relay.redis_reader import (
+    DELETED_PART,
     NEWS_KEPT,
     NEWS_KEY,
     REDIS_DOWN,
@@ -61,6 +62,7 @@ HEARTBEAT_S = 5.0
 ALIVE_S = 15.0
 IDLE_KEY_S = 86400  # a channel's keys outlive its last message by this long
 COMMAND_CONNECTIONS = 64
+DELETED_KEPT_S = 60  # a deleted stream stays readable this long for the replicas' readers
 RETRY_AFTER_S = 1
 
 
@@ -170,13 +172,19 @@ return {messages, meta[2] or '', subs, meta[1] or '', string.format('%.6f', now)
 """
 )
 
-# KEYS: stream meta subs replicas news; ARGV: alive channel replica news_kept
+# KEYS: stream meta subs replicas news deleted; ARGV: alive channel replica news_kept grave_s
+# The stream is kept a little while as `deleted`, so that every replica can still deliver the
+# messages published before the delete, then the close.
 _DELETE = (
     _LUA_HELPERS
     + """
 local now = clock()
 local subs = subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[1]))
-local existed = redis.call('DEL', KEYS[1], KEYS[2]) > 0 or subs > 0
+local existed = redis.call('EXISTS', KEYS[1]) + redis.call('DEL', KEYS[2]) > 0 or subs > 0
+if redis.call('EXISTS', KEYS[1]) == 1 then
+  redis.call('RENAME', KEYS[1], KEYS[6])
+  redis.call('EXPIRE', KEYS[6], ARGV[5])
+end
 redis.call('DEL', KEYS[3])
 redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[4], '*', 'c', ARGV[2], 'r', ARGV[3])
 return existed and 1 or 0
@@ -336,9 +344,17 @@ class RedisBackend(Backend):
         keys = _keys(channel)
         with _store_errors():
             existed = await self._delete(
-                keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY, NEWS_KEY],
-                args=[ALIVE_S, channel, self.replica, NEWS_KEPT],
+                keys=[
+                    keys["stream"],
+                    keys["meta"],
+                    keys["subs"],
+                    REPLICAS_KEY,
+                    NEWS_KEY,
+                    channel_key(channel, DELETED_PART),
+                ],
+                args=[ALIVE_S, channel, self.replica, NEWS_KEPT, DELETED_KEPT_S],
             )
+            await self._reader.flush_deleted(channel)
         # Local subscribers now; other replicas' readers see the entry in `relay:news`.
         closed = await self._end_local(channel, DELETED)
         return bool(existed) or closed > 0

@@ -14,7 +14,9 @@ The per-channel positions are the truth; the news only says where to look. So no
 when news is: after a Redis outage, or if the news stream was trimmed past the reader's position
 (it keeps about `NEWS_KEPT` entries), the reader sweeps every local channel from its position.
 Entries of a channel read for an earlier generation of its subscribers are dropped (`Position`
-identity), and a channel's entries are always delivered in stream order, each once.
+identity), and a channel's entries are always delivered in stream order, each once. A delete
+renames the channel's stream to `relay:{c}:deleted` for a minute: a reader delivers what it
+had not yet read from there, then closes the channel's subscribers.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from redis.exceptions import TimeoutError as RedisTimeoutError
 log = logging.getLogger(__name__)
 
 NEWS_KEY = "relay:news"
+DELETED_PART = "deleted"  # a deleted channel's stream, kept briefly under this name
 NEWS_KEPT = 100_000  # entries of the news stream kept (approximately)
 READ_BLOCK_MS = 30_000  # an idle reader re-blocks this often
 READ_BATCH = 1024  # news entries per read, and messages per channel per fetch
@@ -112,6 +115,10 @@ class ReplicaReader:
         newest = await self._commands.xrevrange(stream_key(channel), count=1)
         self._positions[channel] = Position(newest[0][0] if newest else b"0-0")
 
+    async def flush_deleted(self, channel: str) -> None:
+        """Deliver what this replica had not read of `channel` before it was deleted."""
+        await self._fetch([channel], part=DELETED_PART)
+
     def remove(self, channel: str) -> None:
         """Stop reading `channel`."""
         self._positions.pop(channel, None)
@@ -183,11 +190,15 @@ class ReplicaReader:
                 with_news[channel] = None
         if await self._fetch(with_news, trimmed_after=read_from):
             await self._fetch(list(self._positions))  # news was lost: sweep everything
+        await self._fetch(deleted, part=DELETED_PART)
         for channel in deleted:  # after the messages published before the delete
             self._on_deleted(channel)
 
-    async def _fetch(self, channels: Iterable[str], trimmed_after: bytes | None = None) -> bool:
-        """Fetch and deliver the new entries of `channels` (all of them, page after page).
+    async def _fetch(
+        self, channels: Iterable[str], trimmed_after: bytes | None = None, part: str = "stream"
+    ) -> bool:
+        """Fetch and deliver the new entries of `channels` (all of them, page after page) from
+        their streams (or, with `part`, their deleted streams).
 
         With `trimmed_after`, also say whether the news stream no longer holds the entry after
         that id (it was trimmed while unread): True means some news was lost.
@@ -197,7 +208,8 @@ class ReplicaReader:
         while pending or trimmed_after is not None:
             async with self._commands.pipeline(transaction=False) as pipe:
                 for channel, at in pending:
-                    pipe.xrange(stream_key(channel), b"(" + at.stream_id, "+", count=READ_BATCH)
+                    key = channel_key(channel, part)
+                    pipe.xrange(key, b"(" + at.stream_id, "+", count=READ_BATCH)
                 if trimmed_after is not None:
                     pipe.xrange(NEWS_KEY, "-", "+", count=1)
                 replies = await pipe.execute()

@@ -18,6 +18,7 @@ import re
 import socket
 import struct
 import time
+from collections.abc import Awaitable, Callable
 
 import aiohttp
 import pytest
@@ -63,41 +64,44 @@ async def _websocket(port: int) -> tuple[asyncio.StreamReader, asyncio.StreamWri
     return reader, writer
 
 
-async def _read_eventsource(reader: asyncio.StreamReader) -> tuple[list[int], str | None]:
-    """The message numbers received and the reason of a `closed` event (None: none came)."""
-    await reader.readuntil(b"\r\n\r\n")
+async def _next_eventsource(reader: asyncio.StreamReader) -> int | str | None:
+    """The next message's number, a `closed` event's reason, or None for anything else."""
+    event = await reader.readuntil(b"\n\n")
+    if event.startswith(b"event: closed"):
+        return json.loads(event.split(b"data: ", 1)[1])["reason"]
+    found = _NUMBER.search(event[:200])
+    return None if found is None else int(found[1])
+
+
+async def _next_websocket(reader: asyncio.StreamReader) -> int | str | None:
+    """The same for a WebSocket frame: a text frame's number, a close frame's reason."""
+    first, second = await reader.readexactly(2)
+    length = second & 0x7F
+    if length == 126:
+        (length,) = struct.unpack("!H", await reader.readexactly(2))
+    elif length == 127:
+        (length,) = struct.unpack("!Q", await reader.readexactly(8))
+    payload = await reader.readexactly(length)
+    if first & 0x0F == 0x8:
+        return payload[2:].decode()
+    return int(_NUMBER.match(payload)[1]) if first & 0x0F == 0x1 else None
+
+
+async def _outcome(
+    reader: asyncio.StreamReader, next_event: Callable[[asyncio.StreamReader], Awaitable]
+) -> tuple[list[int], str | None]:
+    """The message numbers a client was sent, and the reason it was closed with (None: none)."""
+    await reader.readuntil(b"\r\n\r\n")  # the response's or the handshake's headers
     numbers: list[int] = []
     while len(numbers) < BACKLOG:
         try:
-            event = await reader.readuntil(b"\n\n")
+            event = await next_event(reader)
         except asyncio.IncompleteReadError:
             return numbers, None
-        if event.startswith(b"event: closed"):
-            return numbers, json.loads(event.split(b"data: ", 1)[1])["reason"]
-        if (found := _NUMBER.search(event[:200])) is not None:
-            numbers.append(int(found[1]))
-    return numbers, None
-
-
-async def _read_websocket(reader: asyncio.StreamReader) -> tuple[list[int], str | None]:
-    """The same for a WebSocket: text frames until the backlog is in, or a close frame."""
-    await reader.readuntil(b"\r\n\r\n")
-    numbers: list[int] = []
-    while len(numbers) < BACKLOG:
-        try:
-            first, second = await reader.readexactly(2)
-        except asyncio.IncompleteReadError:
-            return numbers, None
-        length = second & 0x7F
-        if length == 126:
-            (length,) = struct.unpack("!H", await reader.readexactly(2))
-        elif length == 127:
-            (length,) = struct.unpack("!Q", await reader.readexactly(8))
-        payload = await reader.readexactly(length)
-        if first & 0x0F == 0x8:
-            return numbers, payload[2:].decode()
-        if first & 0x0F == 0x1:
-            numbers.append(int(_NUMBER.match(payload)[1]))
+        if isinstance(event, str):
+            return numbers, event
+        if event is not None:
+            numbers.append(event)
     return numbers, None
 
 
@@ -147,8 +151,8 @@ async def test_readers_that_never_read_hold_bounded_memory(
 
         outcomes = await asyncio.wait_for(
             asyncio.gather(
-                *(_read_eventsource(reader) for reader, _ in eventsource),
-                *(_read_websocket(reader) for reader, _ in websockets),
+                *(_outcome(reader, _next_eventsource) for reader, _ in eventsource),
+                *(_outcome(reader, _next_websocket) for reader, _ in websockets),
             ),
             READ_S,
         )
