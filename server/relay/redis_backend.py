@@ -8,6 +8,8 @@ Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluste
 - `relay:{c}:meta`    hash: `last` id ever published, newest `evicted` id (for gap notices),
   `requested` time of the last read.
 - `relay:{c}:subs`    hash: replica id -> its local subscriber count.
+- `relay:{c}:deleted` the stream of a channel just deleted, kept a minute (DELETED_KEPT_S) so
+  that every replica delivers what preceded the delete before closing.
 - `relay:news`        a stream of which channel each publish and delete touched (for a delete,
   also the deleting replica), read by every replica (see `server.relay.redis_reader`).
 - `relay:replicas`    sorted set: replica id -> Redis time of its last heartbeat; counts of
