@@ -45,6 +45,7 @@ async def eventsource_subscriber(
     try:
         subscriptions = await subscribe_all(relay, channels, cursor, queue)
     except RelayError as error:
+        queue.discard()
         return error_response(error)
     response = web.StreamResponse(
         headers={

@@ -72,6 +72,7 @@ async def longpoll_subscriber(request: web.Request, channel: str) -> web.Respons
             channel, queue, last_id, relay.settings.first_message
         )
     except RelayError as error:
+        queue.discard()
         return error_response(error)
     try:
         batch = await asyncio.wait_for(queue.take(), relay.settings.longpoll_timeout)

@@ -22,7 +22,7 @@ SCHEMATHESIS = Path(sys.executable).with_name("schemathesis")
 SEED = "20261201"
 
 
-def test_schemathesis_finds_the_description_and_the_behaviour_alike() -> None:
+def test_schemathesis_finds_the_description_and_the_behaviour_alike(tmp_path: Path) -> None:
     token = TokenAuthority(SECRET.encode(), "public-").issue("schemathesis", [], 3600, server=True)
     with RelayProcess(None, longpoll_timeout=0.05) as server:
         run = subprocess.run(
@@ -46,6 +46,7 @@ def test_schemathesis_finds_the_description_and_the_behaviour_alike() -> None:
             capture_output=True,
             text=True,
             timeout=600,
+            cwd=tmp_path,  # schemathesis keeps a cache of its findings in the working directory
         )
     report = run.stdout + run.stderr
     assert run.returncode == 0, report[-6000:]
