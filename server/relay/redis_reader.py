@@ -129,7 +129,7 @@ class ReplicaReader:
                 return
             newest = await self._commands.xrevrange(NEWS_KEY, count=1)
             self._news_at = newest[0][0] if newest else b"0-0"
-            self._task = asyncio.create_task(self._run(), name=f"relay-reader-{self.replica}")
+            self._task = asyncio.create_task(self._loop(), name=f"relay-reader-{self.replica}")
 
     async def close(self) -> None:
         """Stop reading: cancel the task and drop the connection under a blocked XREAD."""
@@ -142,14 +142,6 @@ class ReplicaReader:
         with contextlib.suppress(*REDIS_DOWN):
             await self._client.aclose()
 
-    async def _run(self) -> None:
-        try:
-            await self._loop()
-        except Exception:
-            if not cancelled():
-                raise
-            # Stopped while `close` dropped the connection under a command in progress.
-
     async def _loop(self) -> None:
         delay = 0.05
         while not cancelled():
@@ -161,12 +153,18 @@ class ReplicaReader:
             except REDIS_DOWN as error:
                 if cancelled():
                     break
-                self._sweep = True
                 log.warning("relay reader: Redis unavailable (%s), retrying", error)
-                await asyncio.sleep(delay)
-                delay = min(delay * 2, RECONNECT_MAX_S)
+            except Exception:
+                if cancelled():
+                    break
+                # A reply it could not digest: the reader must not die with every feed.
+                log.exception("relay reader: unexpected failure, sweeping every channel")
+            else:
+                delay = 0.05
                 continue
-            delay = 0.05
+            self._sweep = True
+            await asyncio.sleep(delay)
+            delay = min(delay * 2, RECONNECT_MAX_S)
 
     async def _read_news(self) -> None:
         read_from = self._news_at
