@@ -1,26 +1,30 @@
-"""Publish tokens: HMAC-signed, expiring grants to publish on named channels.
+"""Tokens: signed, expiring JWTs (HS256) that name their holder and grant publishing.
 
-The game server issues a token to each player for its game's channels; the relay checks the
-signature and the expiry and never trusts anything else a client says. Channels whose id starts
-with the public prefix (lobby, leaderboard) are read-only for clients: only a token marked
-`server` may publish there. Without a token, nobody publishes anywhere.
+The game server issues a token to each player, and the same token identifies the player to the
+game API and grants publishing on its game's channels; the relay checks the signature and the
+expiry and never trusts anything else a client says. Channels whose id starts with the public
+prefix (lobby, leaderboard) are read-only for clients: only a token marked `server` may publish
+there. Without a token, nobody publishes anywhere.
 
-Wire form: `base64url(claims JSON) + "." + base64url(HMAC-SHA256(key, first part))`, sent as
-`Authorization: Bearer <token>` or, where browsers cannot set headers (WebSocket), `?token=`.
+Wire form: a compact JWT signed with HMAC-SHA256 (claims `sub`, `channels`, `server`, optional
+`name`, `iat`, `exp`), sent as `Authorization: Bearer <token>` or, where browsers cannot set
+headers (WebSocket), `?token=`. Only HS256 is accepted: `alg: none` and every other algorithm
+are refused, as are forged, expired and malformed tokens.
 """
 
 from __future__ import annotations
 
-import base64
-import hashlib
-import hmac
 import time
 from collections.abc import Callable
 
+import jwt
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from server.relay.errors import RelayError
 from server.relay.ids import ChannelId
+
+ALGORITHM = "HS256"
+_REQUIRED = ["sub", "exp", "iat"]
 
 
 class AuthError(RelayError):
@@ -34,16 +38,12 @@ class TokenClaims(BaseModel):
 
     sub: str = Field(min_length=1, max_length=128, description="the holder (player or service)")
     channels: list[ChannelId] = Field(max_length=64, description="channels it may publish to")
+    iat: int = Field(description="unix time it was issued")
     exp: int = Field(description="unix time after which it is refused")
     server: bool = Field(default=False, description="may also publish to public channels")
-
-
-def _b64(data: bytes) -> str:
-    return base64.urlsafe_b64encode(data).rstrip(b"=").decode("ascii")
-
-
-def _unb64(text: str) -> bytes:
-    return base64.urlsafe_b64decode(text + "=" * (-len(text) % 4))
+    name: str | None = Field(
+        default=None, min_length=1, max_length=64, description="display name of the holder"
+    )
 
 
 class TokenAuthority:
@@ -56,27 +56,48 @@ class TokenAuthority:
         self.public_prefix = public_prefix
         self._clock = clock
 
-    def _sign(self, body: str) -> str:
-        return _b64(hmac.new(self._secret, body.encode("ascii"), hashlib.sha256).digest())
-
-    def issue(self, sub: str, channels: list[str], ttl: float, *, server: bool = False) -> str:
-        """A token for `sub` to publish on `channels` for `ttl` seconds."""
+    def issue(
+        self,
+        sub: str,
+        channels: list[str],
+        ttl: float,
+        *,
+        server: bool = False,
+        name: str | None = None,
+    ) -> str:
+        """A token for `sub` (shown as `name`) to publish on `channels` for `ttl` seconds."""
+        now = int(self._clock())
         claims = TokenClaims(
-            sub=sub, channels=channels, exp=int(self._clock() + ttl), server=server
+            sub=sub,
+            channels=channels,
+            iat=now,
+            exp=int(self._clock() + ttl),
+            server=server,
+            name=name,
         )
-        body = _b64(claims.model_dump_json().encode())
-        return f"{body}.{self._sign(body)}"
+        return jwt.encode(claims.model_dump(exclude_none=True), self._secret, ALGORITHM)
 
     def verify(self, token: str | None) -> TokenClaims:
         """The claims of a genuine, unexpired token; AuthError(401) otherwise."""
         if not token:
             raise AuthError(401, "publishing needs a token (Authorization: Bearer or ?token=)")
-        body, _, signature = token.partition(".")
-        if not token.isascii() or not hmac.compare_digest(self._sign(body), signature):
-            raise AuthError(401, "token signature is invalid")
         try:
-            claims = TokenClaims.model_validate_json(_unb64(body))
-        except (ValueError, ValidationError):
+            payload = jwt.decode(
+                token,
+                self._secret,
+                algorithms=[ALGORITHM],
+                # Expiry is checked below against the injectable clock, not PyJWT's.
+                options={"require": _REQUIRED, "verify_exp": False, "verify_iat": False},
+            )
+        except jwt.InvalidSignatureError:
+            raise AuthError(401, "token signature is invalid") from None
+        except jwt.InvalidAlgorithmError:
+            raise AuthError(401, f"token algorithm is not {ALGORITHM}") from None
+        except jwt.InvalidTokenError:
+            raise AuthError(401, "token is malformed") from None
+        try:
+            claims = TokenClaims.model_validate(payload)
+        except ValidationError:
             raise AuthError(401, "token claims are malformed") from None
         if claims.exp < self._clock():
             raise AuthError(401, "token has expired")

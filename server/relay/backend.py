@@ -15,14 +15,15 @@ What a backend must guarantee
 2. **Bounded buffer.** A channel keeps at most `config.buffer_length` messages, none older than
    `config.message_ttl` seconds. Older ones are dropped ("evicted"), and the backend remembers
    the newest id it ever evicted from each channel.
-3. **Exactly-once resume.** `read_since(channel, last_id)` returns the buffered messages with ids
-   greater than `last_id`, oldest first. `subscribe(..., last_id=...)` delivers those and then
-   every later message, each exactly once and in order, with no window between the backlog and
-   the live feed (the base class does this if `_open_feed` keeps its promise, see below).
+3. **Exactly-once resume.** `read_since(channel, last_id, limit)` returns the buffered messages
+   with ids greater than `last_id`, oldest first, at most `limit` of them. `subscribe(...,
+   last_id=...)` delivers those and then every later message, each exactly once and in order,
+   with no window between the backlog and the live feed (the base class does this if
+   `_open_feed` keeps its promise, see below).
 4. **Explicit gaps.** When a message newer than `last_id` has been evicted, the subscriber cannot
    get everything it missed: `read_since` sets `Backlog.gap`, and `subscribe` sends a `Gap`
    event before the remaining messages. Never jump silently over lost messages.
-5. **One reader per channel per process.** Subscribers of one channel in one process share one
+5. **One feed per channel per process.** Subscribers of one channel in one process share one
    feed: `_open_feed(channel)` runs when the first local subscriber arrives and `_close_feed`
    when the last leaves; the feed calls `_fan_out(channel, event)` once per message, which hands
    the same event object to every local subscriber. Never one backend read per subscriber.
@@ -33,6 +34,14 @@ What a backend must guarantee
 
 Delivery never blocks: `Sink.offer` must return at once. A connection whose queue is full closes
 itself (see `server.relay.sendqueue`), and the subscriber resumes by id.
+
+Backlogs go out a page at a time (`BackendConfig.backlog_page` messages): the next page is read
+only once the sink has sent the previous one (`Sink.drained`), so a subscriber that never reads
+holds one page, not the whole buffer, however long the buffer and however many such readers.
+Live messages that arrive meanwhile wait in the subscription, at most `buffer_length` of them:
+any it had to drop are still in the buffer, and the catch-up reads on until it has them. At most
+`backlog_reads` pages are being read at once in a process, so a crowd arriving together does
+not materialize a crowd of pages before the send queues' byte budget can refuse them.
 """
 
 from __future__ import annotations
@@ -44,7 +53,7 @@ from typing import Protocol
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from server.relay.ids import MessageKey, parse_message_id
+from server.relay.ids import MessageKey, format_message_id, parse_message_id
 from server.relay.messages import (
     SHUTDOWN,
     Backlog,
@@ -64,6 +73,10 @@ class BackendConfig(BaseModel):
 
     buffer_length: int = Field(default=100, ge=1, description="messages kept per channel")
     message_ttl: float = Field(default=3600.0, gt=0, description="seconds a message is kept")
+    backlog_page: int = Field(default=4, ge=1, description="messages read at a time to resume")
+    backlog_reads: int = Field(
+        default=8, ge=1, description="backlog pages being read at once in one process"
+    )
 
 
 class Start(StrEnum):
@@ -76,8 +89,14 @@ class Start(StrEnum):
 class Sink(Protocol):
     """Where a subscription's events go, typically a connection's bounded send queue."""
 
-    def offer(self, event: Event) -> None:
-        """Take one event without waiting (a full sink closes its connection instead)."""
+    def offer(self, event: Event, shared: bool = True) -> None:
+        """Take one event without waiting (a full sink closes its connection instead).
+
+        `shared`: the same object goes to every local subscriber (live messages); False for
+        messages read for this subscriber alone (its backlog), which it alone keeps alive."""
+
+    async def drained(self) -> bool:
+        """Wait until everything offered has been sent on; False if the sink has closed."""
 
 
 class Subscription:
@@ -87,35 +106,68 @@ class Subscription:
     before the backlog was read (and so repeats some of it) never causes duplicates.
     """
 
-    __slots__ = ("_newest", "_pending", "channel", "sink")
+    __slots__ = ("_dropped", "_newest", "_pending", "catch_up", "channel", "pending_limit", "sink")
 
-    def __init__(self, channel: str, sink: Sink) -> None:
+    def __init__(self, channel: str, sink: Sink, pending_limit: int) -> None:
         self.channel = channel
         self.sink = sink
+        self.pending_limit = pending_limit
         self._newest: MessageKey = (-1, -1)
         # While the backlog is being read, live events wait here so that they follow it.
         self._pending: list[Event] | None = []
+        self._dropped = False  # pending messages were dropped since the last backlog read
+        self.catch_up: asyncio.Future[None] | None = None  # reads the backlog's later pages
+
+    @property
+    def newest_id(self) -> str | None:
+        """The id of the newest message delivered (or resumed from), None before any."""
+        return None if self._newest == (-1, -1) else format_message_id(self._newest)
 
     def push(self, event: Event) -> None:
         """Deliver one live event (held back until the backlog has gone out)."""
-        if self._pending is not None:
+        if isinstance(event, ChannelClosed) and self.catch_up is not None:
+            self.catch_up.cancel()  # the end comes at once, not after the backlog
+            self.sink.offer(event)
+        elif self._pending is not None:
+            if isinstance(event, StoredMessage) and len(self._pending) >= self.pending_limit:
+                # Still in the buffer (or reported as a gap): the catch-up reads it again.
+                self._pending.pop(0)
+                self._dropped = True
             self._pending.append(event)
-        elif isinstance(event, StoredMessage):
+        else:
+            self._offer(event)
+
+    def _offer(self, event: Event, shared: bool = True) -> None:
+        if isinstance(event, StoredMessage):
             if event.key > self._newest:
                 self._newest = event.key
-                self.sink.offer(event)
+                self.sink.offer(event, shared)
         else:
-            self.sink.offer(event)
+            self.sink.offer(event, shared)
 
-    def start(self, backlog: Backlog, last_id: str | None) -> None:
-        """Send the gap notice and the backlog, then the held-back live events not in it."""
-        if backlog.gap and last_id is not None:
-            self.sink.offer(Gap(channel=self.channel, last_id=last_id))
+    def resume_from(self, last_id: str | None) -> None:
         if last_id is not None:
             self._newest = parse_message_id(last_id)
+
+    def deliver(self, backlog: Backlog, after: str | None) -> bool:
+        """Send a gap notice (if messages after `after` were lost) and one page of backlog.
+
+        True when the subscription may go live: the page was the last one and no live message
+        was dropped while it was read.
+        """
+        if backlog.gap and after is not None:
+            self.sink.offer(Gap(channel=self.channel, last_id=after))
+        for message in backlog.messages:
+            self._offer(message, shared=False)
+        caught_up = not backlog.more and not self._dropped
+        self._dropped = False
+        return caught_up
+
+    def go_live(self) -> None:
+        """Send the held-back live events not already sent, then everything as it comes."""
         pending, self._pending = self._pending or [], None
-        for event in [*backlog.messages, *pending]:
-            self.push(event)
+        for event in pending:
+            self._offer(event)
 
 
 class Backend(ABC):
@@ -125,15 +177,19 @@ class Backend(ABC):
         self.config = config
         self._local: dict[str, set[Subscription]] = {}
         self._feeds: dict[str, asyncio.Future[None]] = {}
+        self._backlog_reads = asyncio.Semaphore(config.backlog_reads)
 
     # ----- storage: implemented by each backend -------------------------------------------
     @abstractmethod
-    async def publish(self, channel: str, data: bytes, content_type: str) -> Published:
+    async def publish(
+        self, channel: str, data: bytes, content_type: str, event: str | None = None
+    ) -> Published:
         """Append a message (new id, evicting beyond the bounds) and deliver it everywhere."""
 
     @abstractmethod
-    async def read_since(self, channel: str, last_id: str | None) -> Backlog:
-        """Buffered messages newer than `last_id` (all of them for None), and the gap flag."""
+    async def read_since(self, channel: str, last_id: str | None, limit: int) -> Backlog:
+        """The oldest `limit` buffered messages newer than `last_id` (None: from the oldest),
+        whether more follow them, and the gap flag."""
 
     @abstractmethod
     async def info(self, channel: str) -> ChannelInfo | None:
@@ -185,7 +241,7 @@ class Backend(ABC):
         """
         if last_id is not None:
             parse_message_id(last_id)
-        subscription = Subscription(channel, sink)
+        subscription = Subscription(channel, sink, self.config.buffer_length)
         subscribers = self._local.setdefault(channel, set())
         subscribers.add(subscription)
         try:
@@ -196,18 +252,45 @@ class Backend(ABC):
             if last_id is None and start is Start.NEWEST:
                 backlog = Backlog(messages=[], gap=False)
             else:
-                backlog = await self.read_since(channel, last_id)
+                backlog = await self._read_page(channel, last_id)
         except BaseException:
             feed = self._feeds.get(channel)
             if feed is not None and feed.done() and (feed.cancelled() or feed.exception()):
                 del self._feeds[channel]  # a failed feed: the next subscriber tries again
             await self._forget(subscription, counted=False)
             raise
-        subscription.start(backlog, last_id)
+        subscription.resume_from(last_id)
+        if subscription.deliver(backlog, last_id):
+            subscription.go_live()
+        else:
+            subscription.catch_up = asyncio.ensure_future(self._catch_up(subscription))
         return subscription
+
+    async def _catch_up(self, subscription: Subscription) -> None:
+        """Read and send the backlog's later pages, each once the sink has sent the last."""
+        try:
+            while await subscription.sink.drained():
+                if await self._deliver_next_page(subscription):
+                    subscription.go_live()
+                    return
+        except Exception as error:  # the store failed: end it, the client resumes by id
+            reason = f"backlog could not be read ({error}); resume with your last message id"
+            subscription.sink.offer(ChannelClosed(channel=subscription.channel, reason=reason))
+
+    async def _deliver_next_page(self, subscription: Subscription) -> bool:
+        """Read and deliver one page; True once caught up. (A function of its own so that the
+        page is not held while the loop above waits for the sink to send it.)"""
+        after = subscription.newest_id
+        return subscription.deliver(await self._read_page(subscription.channel, after), after)
+
+    async def _read_page(self, channel: str, after: str | None) -> Backlog:
+        async with self._backlog_reads:
+            return await self.read_since(channel, after, self.config.backlog_page)
 
     async def unsubscribe(self, subscription: Subscription) -> None:
         """End a subscription (idempotent)."""
+        if subscription.catch_up is not None:
+            subscription.catch_up.cancel()
         await self._forget(subscription, counted=True)
 
     async def _forget(self, subscription: Subscription, *, counted: bool) -> None:

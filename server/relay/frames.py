@@ -1,6 +1,7 @@
 """How channel info and events look on the wire, for each transport, as nchan formats them.
 
-- Channel info: nchan's plain-text block, or JSON with nchan's field names, chosen by `Accept`.
+- Channel info: nchan's plain-text block (CRLF line ends, no final one), or JSON with nchan's
+  field names as `text/json`, chosen by `Accept`.
 - `ws+meta.nchan` frames: `id: <id>\\ncontent-type: <type>\\n\\n<data>`.
 - EventSource: `id:` and `data:` lines, one `data:` per line of the message.
 - Gaps and closes (our additions) carry JSON of the `Gap` / `ChannelClosed` models, with their
@@ -11,6 +12,7 @@
 
 from __future__ import annotations
 
+import re
 import struct
 from functools import lru_cache
 
@@ -19,8 +21,12 @@ from aiohttp import WSMsgType
 from server.relay.messages import ChannelClosed, ChannelInfo, Gap
 from server.relay.payloads import MSGPACK
 
+_LINE_END = re.compile(r"\r\n|\r|\n")  # what the EventSource specification counts as a line end
 GAP_TYPE = "application/vnd.relay.gap+json"
 CLOSED_TYPE = "application/vnd.relay.closed+json"
+
+
+INFO_JSON_TYPE = "text/json"  # what nchan answers for `text/json` and `application/json`
 
 
 def wants_json(accept: str | None) -> bool:
@@ -32,15 +38,15 @@ def wants_json(accept: str | None) -> bool:
 def info_body(info: ChannelInfo, as_json: bool) -> tuple[str, str]:
     """(content type, body) of a channel info answer."""
     if as_json:
-        return "application/json", info.model_dump_json()
+        return INFO_JSON_TYPE, info.model_dump_json()
     last = info.last_message_id if info.last_message_id is not None else ""
-    text = (
-        f"queued messages: {info.messages}\n"
-        f"last requested: {info.requested} sec. ago\n"
-        f"active subscribers: {info.subscribers}\n"
-        f"last message id: {last}\n"
+    lines = (
+        f"queued messages: {info.messages}",
+        f"last requested: {info.requested} sec. ago",
+        f"active subscribers: {info.subscribers}",
+        f"last message id: {last}",
     )
-    return "text/plain", text
+    return "text/plain", "\r\n".join(lines)
 
 
 @lru_cache(maxsize=4096)  # every subscriber of a channel sends the same header
@@ -87,11 +93,15 @@ def notice(event: Gap | ChannelClosed) -> tuple[str, bytes]:
 
 
 def sse_event(data: str, message_id: str | None = None, event: str | None = None) -> bytes:
-    """One EventSource event; multi-line data becomes several `data:` lines."""
+    """One EventSource event; multi-line data becomes several `data:` lines.
+
+    Lines are split where the EventSource specification ends them (CRLF, CR or LF), so a
+    conforming parser joins the `data:` lines back into the data with LF between them.
+    """
     lines = []
     if event is not None:
         lines.append(f"event: {event}")
     if message_id is not None:
         lines.append(f"id: {message_id}")
-    lines.extend(f"data: {line}" for line in data.split("\n"))
+    lines.extend(f"data: {line}" for line in _LINE_END.split(data))
     return ("\n".join(lines) + "\n\n").encode()

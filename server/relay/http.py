@@ -5,7 +5,7 @@ from __future__ import annotations
 from aiohttp import WSMessage, WSMsgType, web
 from pydantic import BaseModel, ConfigDict
 
-from server.relay.errors import RelayError
+from server.relay.errors import RelayError, Unavailable
 from server.relay.payloads import JSON, MSGPACK
 from server.relay.relay import Relay
 
@@ -34,6 +34,16 @@ def bearer_token(request: web.Request) -> str | None:
     return request.query.get("token")
 
 
+def limit_socket_buffer(request: web.Request, high: int) -> None:
+    """Make the connection's writes wait once `high` bytes are buffered in the process.
+
+    asyncio's default of 64 KiB, plus the message being written, is per connection: with
+    thousands of subscribers that never read, it alone would add up to hundreds of MB.
+    """
+    if request.transport is not None:
+        request.transport.set_write_buffer_limits(high=high)
+
+
 def error_body(error: RelayError) -> str:
     """The JSON that says why a request was refused."""
     return ErrorBody(error=error.reason, status=error.status).model_dump_json()
@@ -44,6 +54,8 @@ def error_response(error: RelayError) -> web.Response:
     headers = {}
     if error.status == 401:
         headers["WWW-Authenticate"] = "Bearer"
+    if isinstance(error, Unavailable):
+        headers["Retry-After"] = str(error.retry_after)
     return web.Response(
         text=error_body(error),
         status=error.status,
@@ -62,3 +74,29 @@ def frame_message(frame: WSMessage) -> tuple[str, bytes] | None:
     if frame.type == WSMsgType.BINARY:
         return MSGPACK, frame.data
     return None
+
+
+SUBSCRIBE_ROUTE = "relay-subscribe"
+PREFLIGHT_HEADERS = {
+    "Access-Control-Allow-Headers": "If-None-Match, If-Modified-Since, Content-Type, "
+    "Cache-Control, X-EventSource-Event, Last-Event-ID",
+    "Access-Control-Allow-Methods": "GET",
+    "Allow": "GET",
+}
+
+
+def check_origin(request: web.Request, allowed: list[str]) -> None:
+    """RelayError(403) for a page whose origin may not subscribe (no Origin: anyone may)."""
+    origin = request.headers.get("Origin")
+    if origin is not None and "*" not in allowed and origin not in allowed:
+        raise RelayError(403, f"origin {origin!r} may not subscribe here")
+
+
+async def add_cors_headers(request: web.Request, response: web.StreamResponse) -> None:
+    """Every answer to a subscriber request with an `Origin` names that origin, as nchan's do,
+    so that a page on another origin can read it (refused origins get 403 before this)."""
+    origin = request.headers.get("Origin")
+    if origin is None or request.match_info.route.name != SUBSCRIBE_ROUTE:
+        return
+    response.headers["Access-Control-Allow-Origin"] = origin
+    response.headers["Access-Control-Allow-Credentials"] = "true"

@@ -4,7 +4,9 @@ As in nchan, a response carries the message's id split over two cache headers: `
 (its seconds, as an HTTP date) and `Etag` (its tag). The client sends them back as
 `If-Modified-Since` and `If-None-Match` and gets the next message, at once if it is buffered,
 else when it is published. Without them it gets the first message per `first_message`.
-`?last_event_id=<id>` is accepted too. No message within the timeout: 408, try again.
+`?last_event_id=<id>` is accepted too (empty: as if absent). As HTTP says of conditional
+requests, an `If-Modified-Since` that is not an HTTP date is ignored, and so is an
+`If-None-Match` that is not a message tag. No message within the timeout: 408, try again.
 A gap is reported in the `X-Relay-Gap` header (the id that expired) on the next message; a
 channel deleted while waiting answers 410.
 """
@@ -21,7 +23,6 @@ from server.relay.errors import RelayError
 from server.relay.http import error_response, relay_of
 from server.relay.ids import format_message_id, parse_message_id
 from server.relay.messages import DELETED, Gap, StoredMessage
-from server.relay.sendqueue import SendQueue
 from server.relay.subscribing import unsubscribe_all
 
 _WHOLE_SECOND = 10**12 - 1  # a tag after every tag: If-Modified-Since alone skips its second
@@ -29,20 +30,17 @@ _WHOLE_SECOND = 10**12 - 1  # a tag after every tag: If-Modified-Since alone ski
 
 def requested_id(request: web.Request) -> str | None:
     """The id the client has seen, from nchan's cache headers or `?last_event_id=`."""
-    if "last_event_id" in request.query:
+    if request.query.get("last_event_id"):
         return request.query["last_event_id"]
-    since = request.headers.get("If-Modified-Since")
-    if since is None:
-        return None
     try:
-        seconds = int(parsedate_to_datetime(since).timestamp())
-    except (TypeError, ValueError):
-        raise RelayError(400, f"If-Modified-Since {since!r} is not an HTTP date") from None
+        seconds = int(parsedate_to_datetime(request.headers.get("If-Modified-Since")).timestamp())
+    except (TypeError, ValueError, IndexError, OverflowError):
+        return None  # absent or not an HTTP date: ignored (RFC 9110, section 13.1.3)
+    if seconds < 0:
+        return None
     etag = request.headers.get("If-None-Match", "").strip().removeprefix("W/").strip('"')
-    if not etag:
+    if not (etag.isascii() and etag.isdigit() and len(etag) <= 12):
         return format_message_id((seconds, _WHOLE_SECOND))
-    if not etag.isdigit():
-        raise RelayError(400, f"If-None-Match {etag!r} is not a message tag")
     return format_message_id((seconds, int(etag)))
 
 
@@ -52,7 +50,7 @@ def _message_response(message: StoredMessage, gap: Gap | None) -> web.Response:
         "Last-Modified": format_datetime(datetime.fromtimestamp(seconds, UTC), usegmt=True),
         "Etag": str(tag),
         "Cache-Control": "no-cache",
-        "Access-Control-Expose-Headers": "Last-Modified, Etag, X-Relay-Gap",
+        "Access-Control-Expose-Headers": "Last-Modified, Etag, Content-Type, X-Relay-Gap",
     }
     if gap is not None:
         headers["X-Relay-Gap"] = gap.last_id
@@ -68,15 +66,20 @@ async def longpoll_subscriber(request: web.Request, channel: str) -> web.Respons
     except (RelayError, ValueError) as error:
         reason = error.reason if isinstance(error, RelayError) else str(error)
         return error_response(RelayError(400, reason))
-    queue = SendQueue(limit=2)  # a gap notice and one message are all a response carries
-    subscription = await relay.backend.subscribe(
-        channel, queue, last_id, relay.settings.first_message
-    )
+    queue = relay.send_queue()
+    try:
+        subscription = await relay.backend.subscribe(
+            channel, queue, last_id, relay.settings.first_message
+        )
+    except RelayError as error:
+        queue.discard()
+        return error_response(error)
     try:
         batch = await asyncio.wait_for(queue.take(), relay.settings.longpoll_timeout)
     except TimeoutError:
         return error_response(RelayError(408, "no message yet: ask again"))
     finally:
+        queue.discard()
         await unsubscribe_all(relay, [subscription])
     gap = next((event for event in batch if isinstance(event, Gap)), None)
     message = next((event for event in batch if isinstance(event, StoredMessage)), None)

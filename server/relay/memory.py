@@ -23,7 +23,7 @@ from server.relay.backend import Backend, BackendConfig
 from server.relay.ids import MessageKey, format_message_id, parse_message_id
 from server.relay.messages import DELETED, Backlog, ChannelInfo, Published, StoredMessage
 
-_Entry = tuple[MessageKey, str, str, bytes, float]  # key, id, content type, data, time
+_Entry = tuple[MessageKey, str, str, bytes, float, str | None]  # key, id, type, data, time, event
 
 
 @dataclass
@@ -50,7 +50,9 @@ class MemoryBackend(Backend):
         ):
             state.evicted_key = messages.popleft()[0]
 
-    async def publish(self, channel: str, data: bytes, content_type: str) -> Published:
+    async def publish(
+        self, channel: str, data: bytes, content_type: str, event: str | None = None
+    ) -> Published:
         now = self._clock()
         state = self._channels.setdefault(channel, _Channel())
         seconds = int(now)
@@ -64,9 +66,10 @@ class MemoryBackend(Backend):
             content_type=content_type,
             data=data,
             time=now,
+            event=event,
         )
         state.last_key = key
-        state.messages.append((key, message.id, content_type, data, now))
+        state.messages.append((key, message.id, content_type, data, now, event))
         self._expire(state, now)
         subscribers = self.local_subscribers(channel)
         self._fan_out(channel, message)
@@ -76,7 +79,7 @@ class MemoryBackend(Backend):
             had_subscribers=subscribers > 0,
         )
 
-    async def read_since(self, channel: str, last_id: str | None) -> Backlog:
+    async def read_since(self, channel: str, last_id: str | None, limit: int) -> Backlog:
         state = self._channels.get(channel)
         after = parse_message_id(last_id) if last_id is not None else None
         if state is None:
@@ -84,13 +87,15 @@ class MemoryBackend(Backend):
         now = self._clock()
         state.requested_at = now
         self._expire(state, now)
-        newer = [
-            StoredMessage(channel=channel, id=id_, content_type=type_, data=data, time=time_)
-            for key, id_, type_, data, time_ in state.messages
-            if after is None or key > after
+        newer = [entry for entry in state.messages if after is None or entry[0] > after]
+        page = [
+            StoredMessage(
+                channel=channel, id=id_, content_type=type_, data=data, time=time_, event=event
+            )
+            for _, id_, type_, data, time_, event in newer[:limit]
         ]
         gap = after is not None and state.evicted_key is not None and state.evicted_key > after
-        return Backlog(messages=newer, gap=gap)
+        return Backlog(messages=page, gap=gap, more=len(newer) > limit)
 
     def _info(self, state: _Channel, now: float, subscribers: int) -> ChannelInfo:
         requested = -1 if state.requested_at is None else int(now - state.requested_at)

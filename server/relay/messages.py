@@ -24,6 +24,9 @@ class StoredMessage(BaseModel):
     content_type: str
     data: bytes
     time: float = Field(description="unix time (seconds) when the backend accepted it")
+    event: str | None = Field(
+        default=None, description="EventSource event name (`X-EventSource-Event` on publish)"
+    )
 
     @cached_property
     def key(self) -> MessageKey:
@@ -59,6 +62,7 @@ class Backlog(BaseModel):
 
     messages: list[StoredMessage]
     gap: bool = Field(description="a message newer than the given id has left the buffer")
+    more: bool = Field(default=False, description="newer buffered messages follow these")
 
 
 class Gap(BaseModel):

@@ -1,7 +1,12 @@
 """The OpenAPI description of the relay's HTTP endpoints, its schemas taken from the models.
 
 WebSocket and EventSource are described as what they are on HTTP (an upgrade, a text stream);
-their framing is documented in the README (The message relay).
+their framing is documented in the README (The message relay). `/sub/{channels}` is described
+as the long-poll a plain HTTP client gets: one channel and a plain message id. WebSocket and
+EventSource subscribers may also name several channels and resume from a cursor (README); that
+is not plain HTTP, and describing it here would make the long-poll's answers to it (400) look
+like refusals of valid requests. schemathesis checks this description against the server
+(tests/relay/test_openapi.py).
 """
 
 from __future__ import annotations
@@ -13,8 +18,9 @@ from pydantic.json_schema import models_json_schema
 
 from server.relay.frames import CLOSED_TYPE, GAP_TYPE
 from server.relay.http import ErrorBody
-from server.relay.ids import CHANNEL_PATTERN
+from server.relay.ids import CHANNEL_PATTERN, MESSAGE_ID_PATTERN
 from server.relay.messages import ChannelClosed, ChannelInfo, Gap
+from server.relay.payloads import JSON, MSGPACK
 
 _REF = "#/components/schemas/{model}"
 
@@ -47,6 +53,8 @@ _CHANNEL = {
     "schema": {"type": "string", "pattern": CHANNEL_PATTERN},
 }
 _TOKEN = {"bearer": []}
+_UNAVAILABLE = {"503": _error("the message store is unreachable: retry after Retry-After s")}
+_BAD_CHANNEL = {"400": _error("malformed channel id")}
 _REFUSALS = {
     "400": _error("malformed channel id or body"),
     "401": _error("missing, forged or expired token"),
@@ -82,6 +90,7 @@ def openapi_document() -> dict[str, Any]:
                         **_REFUSALS,
                         "413": _error("body larger than the configured limit"),
                         "415": _error("content type is neither JSON nor msgpack"),
+                        **_UNAVAILABLE,
                     },
                 },
                 "get": {
@@ -90,7 +99,9 @@ def openapi_document() -> dict[str, Any]:
                     "responses": {
                         "101": {"description": "WebSocket publisher"},
                         "200": _info("channel info"),
+                        **_BAD_CHANNEL,
                         "404": _error("no such channel"),
+                        **_UNAVAILABLE,
                     },
                 },
                 "delete": {
@@ -100,6 +111,7 @@ def openapi_document() -> dict[str, Any]:
                         "200": _info("deleted; its last info"),
                         "404": _error("no such channel"),
                         **_REFUSALS,
+                        **_UNAVAILABLE,
                     },
                 },
             },
@@ -107,8 +119,14 @@ def openapi_document() -> dict[str, Any]:
                 "get": {
                     "summary": "Subscribe: WebSocket upgrade, EventSource or long-poll",
                     "parameters": [
-                        {**_CHANNEL, "name": "channels", "schema": {"type": "string"}},
-                        {"name": "last_event_id", "in": "query", "schema": {"type": "string"}},
+                        {**_CHANNEL, "name": "channels"},
+                        {
+                            "name": "last_event_id",
+                            "in": "query",
+                            "description": "resume after this message id (empty: from the "
+                            "start, per first_message)",
+                            "schema": {"type": "string", "pattern": f"^$|{MESSAGE_ID_PATTERN}"},
+                        },
                         {"name": "Last-Event-ID", "in": "header", "schema": {"type": "string"}},
                         {"name": "If-Modified-Since", "in": "header", "schema": {"type": "string"}},
                         {"name": "If-None-Match", "in": "header", "schema": {"type": "string"}},
@@ -120,15 +138,28 @@ def openapi_document() -> dict[str, Any]:
                             "X-Relay-Gap headers); EventSource: text/event-stream",
                             "content": {
                                 "text/event-stream": {"schema": {"type": "string"}},
+                                JSON: {"schema": {}},
+                                MSGPACK: {"schema": {}},
                                 GAP_TYPE: {"schema": _ref("Gap")},
                                 CLOSED_TYPE: {"schema": _ref("ChannelClosed")},
                             },
                         },
                         "400": _error("malformed channel list or resume id"),
+                        "403": _error("the request's Origin may not subscribe"),
                         "408": _error("long-poll: no message within the timeout"),
                         "410": _error("long-poll: the channel was deleted"),
+                        **_UNAVAILABLE,
                     },
-                }
+                },
+                "options": {
+                    "summary": "CORS preflight of a subscriber request from another origin",
+                    "parameters": [{**_CHANNEL, "name": "channels"}],
+                    "responses": {
+                        "200": {"description": "the allowed methods and headers"},
+                        **_BAD_CHANNEL,
+                        "403": _error("the request's Origin may not subscribe"),
+                    },
+                },
             },
         },
     }

@@ -1,7 +1,8 @@
 """The publisher endpoint `/pub/{channel}`, with nchan's methods and status codes.
 
 - POST publishes the body (JSON or msgpack by Content-Type) and answers the channel info:
-  201 when subscribers were present, 202 when none were.
+  201 when subscribers were present, 202 when none were. `X-EventSource-Event: NAME` names
+  the message's EventSource event. 503 with Retry-After if the message store is unreachable.
 - GET answers the channel info (text, or JSON by Accept), 404 for an unknown channel.
 - GET with a WebSocket upgrade opens a publisher socket: each frame (text: JSON, binary:
   msgpack) is published and answered with the channel info in the format the handshake's Accept
@@ -22,7 +23,8 @@ from server.relay.relay import check_channel
 
 def _info_response(request: web.Request, info: ChannelInfo, status: int) -> web.Response:
     content_type, body = info_body(info, wants_json(request.headers.get("Accept")))
-    return web.Response(status=status, text=body, content_type=content_type)
+    # Content-Type set by hand: aiohttp would add a charset parameter, and nchan sends none.
+    return web.Response(status=status, body=body.encode(), headers={"Content-Type": content_type})
 
 
 async def _read_limited(request: web.Request, limit: int) -> bytes:
@@ -44,10 +46,14 @@ async def publish(request: web.Request) -> web.Response:
     try:
         relay.admit(channel, bearer_token(request))
         data = await _read_limited(request, relay.settings.max_message_bytes)
-        message = relay.validate(request.headers.get("Content-Type"), data)
+        message = relay.validate(
+            request.headers.get("Content-Type"), data, request.headers.get("X-EventSource-Event")
+        )
+        published = await relay.backend.publish(
+            channel, message.data, message.content_type, message.event
+        )
     except RelayError as error:
         return error_response(error)
-    published = await relay.backend.publish(channel, message.data, message.content_type)
     return _info_response(request, published.info, 201 if published.had_subscribers else 202)
 
 
@@ -79,7 +85,10 @@ async def channel_info(request: web.Request) -> web.StreamResponse:
         return error_response(error)
     if request.headers.get("Upgrade", "").lower() == "websocket":
         return await _websocket_publisher(request, channel)
-    info = await relay.backend.info(channel)
+    try:
+        info = await relay.backend.info(channel)
+    except RelayError as error:
+        return error_response(error)
     if info is None:
         return error_response(RelayError(404, f"no channel {channel!r}"))
     return _info_response(request, info, 200)
@@ -90,10 +99,11 @@ async def delete_channel(request: web.Request) -> web.Response:
     channel = request.match_info["channel"]
     try:
         relay.admit(channel, bearer_token(request))
+        info = await relay.backend.info(channel)
+        existed = await relay.backend.delete(channel)
     except RelayError as error:
         return error_response(error)
-    info = await relay.backend.info(channel)
-    if not await relay.backend.delete(channel):
+    if not existed:
         return error_response(RelayError(404, f"no channel {channel!r}"))
     if info is None:  # it existed but its messages had expired
         info = ChannelInfo(messages=0, requested=-1, subscribers=0, last_message_id=None)

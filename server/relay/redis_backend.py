@@ -8,7 +8,10 @@ Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluste
 - `relay:{c}:meta`    hash: `last` id ever published, newest `evicted` id (for gap notices),
   `requested` time of the last read.
 - `relay:{c}:subs`    hash: replica id -> its local subscriber count.
-- `relay:{c}:ctl`     a short stream of control events (deletion) that outlives the channel.
+- `relay:{c}:deleted` the stream of a channel just deleted, kept a minute (DELETED_KEPT_S) so
+  that every replica delivers what preceded the delete before closing.
+- `relay:news`        a stream of which channel each publish and delete touched (for a delete,
+  also the deleting replica), read by every replica (see `server.relay.redis_reader`).
 - `relay:replicas`    sorted set: replica id -> Redis time of its last heartbeat; counts of
   replicas silent for `ALIVE_S` are ignored, so a crashed replica's subscribers stop counting.
 
@@ -16,11 +19,14 @@ Every state change is one Lua script, so it is atomic and uses Redis' clock (one
 replicas). With `appendonly yes` and `appendfsync always` (docker-compose.yml, the test
 fixture) a publish that was answered is on disk, and survives a Redis restart.
 
-Fan-out: each replica runs one reader task per channel that has local subscribers, on its own
-connection. It blocks in `XREAD` on the channel's stream and control stream (a delete anywhere
-adds an entry there) and hands each new message to every local subscriber
+Fan-out: each replica runs one reader (`server.relay.redis_reader`) on one connection for all
+channels with local subscribers. It blocks in one `XREAD` on `relay:news`, fetches the new
+messages of its channels that have some, and hands each to every local subscriber
 (`Backend._fan_out`), so Redis is read once per message per replica, never once per
-subscriber. After a Redis restart the reader reconnects and goes on from the last id it saw.
+subscriber, and the replica's Redis connections do not grow with its channels.
+
+While Redis cannot be reached, every operation raises `Unavailable` (503 with Retry-After to a
+publisher): nothing is half-done, and the reader retries on its own.
 """
 
 from __future__ import annotations
@@ -29,17 +35,27 @@ import asyncio
 import contextlib
 import logging
 import uuid
+from collections.abc import Iterator
 from typing import Any
 
 import redis.asyncio as aioredis
 from redis.asyncio.retry import Retry
 from redis.backoff import NoBackoff
-from redis.exceptions import ConnectionError as RedisConnectionError
-from redis.exceptions import TimeoutError as RedisTimeoutError
 
 from server.relay.backend import Backend, BackendConfig
+from server.relay.errors import Unavailable
 from server.relay.ids import parse_message_id
-from server.relay.messages import Backlog, ChannelInfo, Published, StoredMessage
+from server.relay.messages import DELETED, Backlog, ChannelInfo, Published, StoredMessage
+from server.relay.redis_reader import (
+    DELETED_PART,
+    NEWS_KEPT,
+    NEWS_KEY,
+    REDIS_DOWN,
+    Entries,
+    ReplicaReader,
+    cancelled,
+    channel_key,
+)
 
 log = logging.getLogger(__name__)
 
@@ -47,13 +63,23 @@ REPLICAS_KEY = "relay:replicas"
 HEARTBEAT_S = 5.0
 ALIVE_S = 15.0
 IDLE_KEY_S = 86400  # a channel's keys outlive its last message by this long
-READ_BLOCK_MS = 30_000  # an idle reader re-blocks this often
-READER_STOP_S = 1.0
-READ_BATCH = 512
-RECONNECT_MAX_S = 1.0
 COMMAND_CONNECTIONS = 64
-MAX_READERS = 10_000  # channels with local subscribers per replica (one connection each)
-_REDIS_DOWN = (RedisConnectionError, RedisTimeoutError, OSError)
+DELETED_KEPT_S = 60  # a deleted stream stays readable this long for the replicas' readers
+RETRY_AFTER_S = 1
+
+
+def _unavailable(error: Exception) -> Unavailable:
+    return Unavailable(f"message store unavailable ({error}): retry", RETRY_AFTER_S)
+
+
+@contextlib.contextmanager
+def _store_errors() -> Iterator[None]:
+    """Turn "Redis cannot be reached" into the relay's Unavailable (503, Retry-After)."""
+    try:
+        yield
+    except REDIS_DOWN as error:
+        raise _unavailable(error) from None
+
 
 # Shared Lua helpers, prepended to the scripts below.
 _LUA_HELPERS = """
@@ -93,7 +119,8 @@ local function subscribers(subs, replicas, now, alive)
 end
 """
 
-# KEYS: stream meta subs replicas; ARGV: maxlen ttl alive idle_s content_type data
+# KEYS: stream meta subs replicas news
+# ARGV: maxlen ttl alive idle_s content_type data event channel news_kept
 _PUBLISH = (
     _LUA_HELPERS
     + """
@@ -103,8 +130,13 @@ if last then
   local last_seconds = tonumber(string.match(last, '^(%d+)-'))
   if last_seconds > seconds then seconds = last_seconds end
 end
-local id = redis.call('XADD', KEYS[1], seconds .. '-*',
-  't', string.format('%.6f', now), 'c', ARGV[5], 'd', ARGV[6])
+local fields = {'t', string.format('%.6f', now), 'c', ARGV[5], 'd', ARGV[6]}
+if ARGV[7] ~= '' then
+  table.insert(fields, 'e')
+  table.insert(fields, ARGV[7])
+end
+local id = redis.call('XADD', KEYS[1], seconds .. '-*', unpack(fields))
+redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[9], '*', 'c', ARGV[8])
 redis.call('HSET', KEYS[2], 'last', id)
 evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
 redis.call('EXPIRE', KEYS[1], ARGV[4])
@@ -115,7 +147,7 @@ return {id, string.format('%.6f', now), redis.call('XLEN', KEYS[1]), requested,
 """
 )
 
-# KEYS: stream meta; ARGV: maxlen ttl start(XRANGE bound)
+# KEYS: stream meta; ARGV: maxlen ttl start(XRANGE bound) count
 _READ_SINCE = (
     _LUA_HELPERS
     + """
@@ -123,7 +155,8 @@ if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false} end
 local now = clock()
 redis.call('HSET', KEYS[2], 'requested', string.format('%.6f', now))
 evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
-return {redis.call('XRANGE', KEYS[1], ARGV[3], '+'), redis.call('HGET', KEYS[2], 'evicted')}
+return {redis.call('XRANGE', KEYS[1], ARGV[3], '+', 'COUNT', ARGV[4]),
+  redis.call('HGET', KEYS[2], 'evicted')}
 """
 )
 
@@ -141,16 +174,21 @@ return {messages, meta[2] or '', subs, meta[1] or '', string.format('%.6f', now)
 """
 )
 
-# KEYS: stream meta subs replicas ctl; ARGV: alive idle_s
+# KEYS: stream meta subs replicas news deleted; ARGV: alive channel replica news_kept grave_s
+# The stream is kept a little while as `deleted`, so that every replica can still deliver the
+# messages published before the delete, then the close.
 _DELETE = (
     _LUA_HELPERS
     + """
 local now = clock()
 local subs = subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[1]))
-local existed = redis.call('DEL', KEYS[1], KEYS[2]) > 0 or subs > 0
+local existed = redis.call('EXISTS', KEYS[1]) + redis.call('DEL', KEYS[2]) > 0 or subs > 0
+if redis.call('EXISTS', KEYS[1]) == 1 then
+  redis.call('RENAME', KEYS[1], KEYS[6])
+  redis.call('EXPIRE', KEYS[6], ARGV[5])
+end
 redis.call('DEL', KEYS[3])
-redis.call('XADD', KEYS[5], 'MAXLEN', '~', 16, '*', 'deleted', '1')
-redis.call('EXPIRE', KEYS[5], ARGV[2])
+redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[4], '*', 'c', ARGV[2], 'r', ARGV[3])
 return existed and 1 or 0
 """
 )
@@ -174,17 +212,8 @@ redis.call('ZREMRANGEBYSCORE', KEYS[1], '-inf', now - 3600)
 """
 
 
-def _cancelled() -> bool:
-    """True once this task was asked to stop. A cancellation can get lost inside redis-py
-    (Python 3.11's `asyncio.wait_for` around a send drops one that arrives as the send
-    completes), so the loops check this instead of relying on CancelledError alone."""
-    task = asyncio.current_task()
-    return task is not None and task.cancelling() > 0
-
-
 def _keys(channel: str) -> dict[str, str]:
-    prefix = f"relay:{{{channel}}}:"
-    return {part: prefix + part for part in ("stream", "meta", "subs", "ctl")}
+    return {part: channel_key(channel, part) for part in ("stream", "meta", "subs")}
 
 
 def _to_message_id(stream_id: bytes) -> str:
@@ -208,6 +237,7 @@ def _stored(
         content_type=fields[b"c"].decode(),
         data=fields[b"d"],
         time=float(fields[b"t"]),
+        event=fields[b"e"].decode() if b"e" in fields else None,
     )
 
 
@@ -240,14 +270,8 @@ class RedisBackend(Backend):
                 driver_info=None,
             )
         )
-        # Readers block in XREAD, each holding one connection of this pool while it lives.
-        self._readers_pool = aioredis.ConnectionPool.from_url(
-            url,
-            retry=Retry(NoBackoff(), 0),
-            max_connections=MAX_READERS,
-            socket_timeout=READ_BLOCK_MS / 1000 + 10,  # longer than a blocked XREAD
-            socket_keepalive=True,
-            driver_info=None,
+        self._reader = ReplicaReader(
+            url, self.replica, self._redis, self._fan_out_entries, self._deleted_elsewhere
         )
         self._publish = self._redis.register_script(_PUBLISH)
         self._read_since = self._redis.register_script(_READ_SINCE)
@@ -255,20 +279,32 @@ class RedisBackend(Backend):
         self._delete = self._redis.register_script(_DELETE)
         self._count = self._redis.register_script(_COUNT)
         self._heartbeat_script = self._redis.register_script(_HEARTBEAT)
-        self._readers: dict[str, tuple[asyncio.Task[None], aioredis.Redis]] = {}
         self._heartbeat: asyncio.Task[None] | None = None
         self._unsynced: set[str] = set()
+        self._closing: set[asyncio.Future[int]] = set()  # deletes seen by the reader
 
     @property
     def _bounds(self) -> list[Any]:
         return [self.config.buffer_length, self.config.message_ttl]
 
-    async def publish(self, channel: str, data: bytes, content_type: str) -> Published:
+    async def publish(
+        self, channel: str, data: bytes, content_type: str, event: str | None = None
+    ) -> Published:
         keys = _keys(channel)
-        reply = await self._publish(
-            keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY],
-            args=[*self._bounds, ALIVE_S, IDLE_KEY_S, content_type, data],
-        )
+        with _store_errors():
+            reply = await self._publish(
+                keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY, NEWS_KEY],
+                args=[
+                    *self._bounds,
+                    ALIVE_S,
+                    IDLE_KEY_S,
+                    content_type,
+                    data,
+                    event or "",
+                    channel,
+                    NEWS_KEPT,
+                ],
+            )
         stream_id, now, messages, requested, subscribers = reply
         message = StoredMessage(
             channel=channel,
@@ -276,41 +312,53 @@ class RedisBackend(Backend):
             content_type=content_type,
             data=data,
             time=float(now),
+            event=event,
         )
         info = _info([messages, requested, subscribers, stream_id, now])
         # Local subscribers get it from this replica's reader, like everyone else's.
         return Published(message=message, info=info, had_subscribers=info.subscribers > 0)
 
-    async def read_since(self, channel: str, last_id: str | None) -> Backlog:
+    async def read_since(self, channel: str, last_id: str | None, limit: int) -> Backlog:
         start = "-" if last_id is None else "(" + _to_stream_id(last_id)
         keys = _keys(channel)
-        entries, evicted = await self._read_since(
-            keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start]
-        )
-        messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries]
+        with _store_errors():
+            entries, evicted = await self._read_since(
+                keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start, limit + 1]
+            )
+        messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries[:limit]]
         gap = (
             last_id is not None
             and bool(evicted)
             and parse_message_id(_to_message_id(evicted)) > parse_message_id(last_id)
         )
-        return Backlog(messages=messages, gap=gap)
+        return Backlog(messages=messages, gap=gap, more=len(entries) > limit)
 
     async def info(self, channel: str) -> ChannelInfo | None:
         keys = _keys(channel)
-        reply = await self._info_script(
-            keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY],
-            args=[*self._bounds, ALIVE_S],
-        )
+        with _store_errors():
+            reply = await self._info_script(
+                keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY],
+                args=[*self._bounds, ALIVE_S],
+            )
         return None if reply is None else _info(reply)
 
     async def delete(self, channel: str) -> bool:
         keys = _keys(channel)
-        existed = await self._delete(
-            keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY, keys["ctl"]],
-            args=[ALIVE_S, IDLE_KEY_S],
-        )
-        # Local subscribers now; other replicas' readers see the control event.
-        closed = await self._end_local(channel, "deleted")
+        with _store_errors():
+            existed = await self._delete(
+                keys=[
+                    keys["stream"],
+                    keys["meta"],
+                    keys["subs"],
+                    REPLICAS_KEY,
+                    NEWS_KEY,
+                    channel_key(channel, DELETED_PART),
+                ],
+                args=[ALIVE_S, channel, self.replica, NEWS_KEPT, DELETED_KEPT_S],
+            )
+            await self._reader.flush_deleted(channel)
+        # Local subscribers now; other replicas' readers see the entry in `relay:news`.
+        closed = await self._end_local(channel, DELETED)
         return bool(existed) or closed > 0
 
     async def close(self) -> None:
@@ -321,87 +369,33 @@ class RedisBackend(Backend):
             self._heartbeat.cancel()
             with contextlib.suppress(asyncio.CancelledError):
                 await self._heartbeat
-        with contextlib.suppress(*_REDIS_DOWN):
+        with contextlib.suppress(*REDIS_DOWN):
             async with self._redis.pipeline(transaction=False) as pipe:
                 for channel in channels:
                     pipe.hdel(_keys(channel)["subs"], self.replica)
                 pipe.zrem(REPLICAS_KEY, self.replica)
                 await pipe.execute()
-        await self._readers_pool.aclose()
+        await self._reader.close()
         await self._redis.aclose()
 
-    # ----- per-channel feed ------------------------------------------------------------------
+    # ----- the feed: this replica's one reader --------------------------------------------
     async def _open_feed(self, channel: str) -> None:
-        keys = _keys(channel)
-        async with self._redis.pipeline(transaction=True) as pipe:
-            pipe.xrevrange(keys["stream"], count=1)
-            pipe.xrevrange(keys["ctl"], count=1)
-            newest, control = await pipe.execute()
-        positions = {
-            keys["stream"]: newest[0][0] if newest else b"0-0",
-            keys["ctl"]: control[0][0] if control else b"0-0",
-        }
-        client = aioredis.Redis(connection_pool=self._readers_pool, single_connection_client=True)
-        reader = asyncio.create_task(
-            self._read_feed(channel, client, positions), name=f"relay-reader-{channel}"
-        )
-        self._readers[channel] = (reader, client)
+        with _store_errors():
+            await self._reader.add(channel)
 
     async def _close_feed(self, channel: str) -> None:
-        """Stop the reader: cancel it and close its connection, which ends a blocked XREAD at
-        once (redis-py does not always let a cancellation through a pending read)."""
-        reader, client = self._readers.pop(channel, (None, None))
-        if reader is None or client is None or reader is asyncio.current_task():
-            return  # a reader that ends itself (channel deleted) closes its own client
-        reader.cancel()
-        if client.connection is not None:
-            await client.connection.disconnect(nowait=True)
-        await asyncio.wait({reader}, timeout=READER_STOP_S)
+        self._reader.remove(channel)
 
-    async def _read_feed(
-        self, channel: str, client: aioredis.Redis, positions: dict[str, bytes]
-    ) -> None:
-        """The channel's reader: fan out new messages until stopped or the channel is deleted."""
-        try:
-            await self._read_loop(channel, client, positions)
-        except Exception:
-            if not _cancelled():
-                raise
-            # Stopped while `_close_feed` closed the connection under a command in progress.
-        finally:
-            await client.aclose()
+    def _fan_out_entries(self, channel: str, entries: Entries) -> None:
+        for stream_id, fields in entries:
+            self._fan_out(channel, _stored(channel, stream_id, fields))
 
-    async def _read_loop(
-        self, channel: str, client: aioredis.Redis, positions: dict[str, bytes]
-    ) -> None:
-        stream_key = _keys(channel)["stream"]
-        delay = 0.05
-        while not _cancelled():
-            try:
-                reply = await client.xread(positions, count=READ_BATCH, block=READ_BLOCK_MS)
-            except _REDIS_DOWN as error:
-                if _cancelled():
-                    break
-                log.warning("relay reader for %s: Redis unavailable (%s), retrying", channel, error)
-                await asyncio.sleep(delay)
-                delay = min(delay * 2, RECONNECT_MAX_S)
-                continue
-            delay = 0.05
-            if _cancelled():
-                break
-            for key, entries in reply:
-                key = key.decode()
-                positions[key] = entries[-1][0]
-                if key != stream_key:
-                    await self._deleted_elsewhere(channel)
-                    return
-                for stream_id, fields in entries:
-                    self._fan_out(channel, _stored(channel, stream_id, fields))
-
-    async def _deleted_elsewhere(self, channel: str) -> None:
-        with contextlib.suppress(*_REDIS_DOWN):
-            await self._redis.hdel(_keys(channel)["subs"], self.replica)
-        await self._end_local(channel, "deleted")
+    def _deleted_elsewhere(self, channel: str) -> None:
+        """Another replica deleted `channel` (and every replica's count of it)."""
+        if channel in self._local:
+            closing = asyncio.ensure_future(self._end_local(channel, DELETED))
+            self._closing.add(closing)
+            closing.add_done_callback(self._closing.discard)
 
     # ----- global subscriber counts ----------------------------------------------------------
     async def _subscribers_changed(self, channel: str, delta: int) -> None:
@@ -412,14 +406,14 @@ class RedisBackend(Backend):
                 keys=[_keys(channel)["subs"], REPLICAS_KEY],
                 args=[self.replica, delta, IDLE_KEY_S],
             )
-        except _REDIS_DOWN:
+        except REDIS_DOWN as error:
             if delta > 0:
-                raise  # the subscription fails as a whole and is not counted
+                raise _unavailable(error) from None  # the subscription fails, uncounted
             self._unsynced.add(channel)  # a departure must not fail: the heartbeat repairs it
 
     async def _beat(self) -> None:
         """Keep this replica counted as alive, and repair counts that could not be lowered."""
-        while not _cancelled():
+        while not cancelled():
             await asyncio.sleep(HEARTBEAT_S)
             try:
                 await self._heartbeat_script(keys=[REPLICAS_KEY], args=[self.replica])
@@ -430,5 +424,5 @@ class RedisBackend(Backend):
                     else:
                         await self._redis.hdel(subs_key, self.replica)
                     self._unsynced.discard(channel)
-            except _REDIS_DOWN as error:
+            except REDIS_DOWN as error:
                 log.warning("relay heartbeat: Redis unavailable (%s)", error)

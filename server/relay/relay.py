@@ -7,6 +7,7 @@ channel id, token, rate, size, content type, then the body itself.
 from __future__ import annotations
 
 import secrets
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from pydantic import ValidationError
@@ -16,8 +17,9 @@ from server.relay.backend import Backend
 from server.relay.errors import RelayError
 from server.relay.ids import is_channel_id
 from server.relay.limits import RateLimiter
-from server.relay.messages import Published
+from server.relay.messages import Event, Published
 from server.relay.payloads import ACCEPTED_TYPES, IncomingMessage, media_type
+from server.relay.sendqueue import OutputBudget, SendQueue
 from server.relay.settings import RelaySettings
 
 
@@ -36,6 +38,8 @@ class Relay:
     settings: RelaySettings
     authority: TokenAuthority
     limiter: RateLimiter
+    server_limiter: RateLimiter  # server tokens (the game service) have a budget of their own
+    output: OutputBudget  # what every connection's send queue draws on
 
     @classmethod
     def build(cls, backend: Backend, settings: RelaySettings) -> Relay:
@@ -45,18 +49,38 @@ class Relay:
             settings=settings,
             authority=TokenAuthority(secret.encode(), settings.public_prefix),
             limiter=RateLimiter(settings.publish_rate, settings.publish_burst),
+            server_limiter=RateLimiter(settings.server_publish_rate, settings.server_publish_burst),
+            output=OutputBudget(settings.send_budget_bytes),
+        )
+
+    def send_queue(
+        self,
+        write_now: Callable[[Event], bool] | None = None,
+        on_pending: Callable[[], None] | None = None,
+    ) -> SendQueue:
+        """A connection's send queue with the configured bounds (see `SendQueue`)."""
+        settings = self.settings
+        return SendQueue(
+            settings.send_queue_length,
+            settings.send_queue_bytes,
+            self.output,
+            write_now,
+            on_pending,
         )
 
     def admit(self, channel: str, token: str | None) -> TokenClaims:
         """Check the right to publish on `channel` and take one from the rate budget."""
         check_channel(channel)
         claims = self.authority.authorize_publish(token, channel)
-        wait = self.limiter.allow(claims.sub)
+        limiter = self.server_limiter if claims.server else self.limiter
+        wait = limiter.allow(claims.sub)
         if wait > 0:
             raise RelayError(429, f"publishing too fast: retry in {wait:.3f} s")
         return claims
 
-    def validate(self, content_type: str | None, data: bytes) -> IncomingMessage:
+    def validate(
+        self, content_type: str | None, data: bytes, event: str | None = None
+    ) -> IncomingMessage:
         """The message if its size, type and body are acceptable; RelayError otherwise."""
         limit = self.settings.max_message_bytes
         if len(data) > limit:
@@ -65,14 +89,23 @@ class Relay:
             accepted = " or ".join(ACCEPTED_TYPES)
             raise RelayError(415, f"unsupported content type {content_type!r}: send {accepted}")
         try:
-            return IncomingMessage(content_type=content_type or "", data=data)
+            return IncomingMessage(content_type=content_type or "", data=data, event=event)
         except ValidationError as error:
-            raise RelayError(400, error.errors()[0]["msg"]) from None
+            first = error.errors()[0]
+            where = "X-EventSource-Event: " if first["loc"] == ("event",) else ""
+            raise RelayError(400, where + first["msg"]) from None
 
     async def publish(
-        self, channel: str, token: str | None, content_type: str | None, data: bytes
+        self,
+        channel: str,
+        token: str | None,
+        content_type: str | None,
+        data: bytes,
+        event: str | None = None,
     ) -> Published:
-        """Admit, validate and publish one message."""
+        """Admit, validate and publish one message (503 `Unavailable` if the store is down)."""
         self.admit(channel, token)
-        message = self.validate(content_type, data)
-        return await self.backend.publish(channel, message.data, message.content_type)
+        message = self.validate(content_type, data, event)
+        return await self.backend.publish(
+            channel, message.data, message.content_type, message.event
+        )

@@ -17,15 +17,41 @@ class RelaySettings(BaseModel):
     send_queue_length: int = Field(
         default=1024, ge=1, description="events queued per connection before it is closed"
     )
-    publish_rate: float = Field(default=50.0, gt=0, description="publishes/s per publisher")
-    publish_burst: int = Field(default=100, ge=1, description="publishes allowed at once")
+    send_queue_bytes: int = Field(
+        default=1024 * 1024, ge=1, description="bytes queued per connection before it is closed"
+    )
+    socket_buffer_bytes: int = Field(
+        default=16 * 1024,
+        ge=1024,
+        description="bytes a subscriber's socket may buffer in the process before writes wait "
+        "(the transport's high-water mark; the kernel's buffers come on top)",
+    )
+    send_budget_bytes: int = Field(
+        default=8 * 1024 * 1024,
+        ge=1,
+        description="bytes queued over all connections of the process; past it, the connection "
+        "asking for more is closed",
+    )
+    publish_rate: float = Field(default=50.0, gt=0, description="publishes/s per client token")
+    publish_burst: int = Field(default=100, ge=1, description="client publishes allowed at once")
+    server_publish_rate: float = Field(
+        default=5000.0, gt=0, description="publishes/s per server token holder (game service)"
+    )
+    server_publish_burst: int = Field(
+        default=10_000, ge=1, description="server publishes allowed at once"
+    )
     auth_secret: str | None = Field(
         default=None,
-        min_length=16,
-        description="HMAC key for publish tokens; None: a random key per process",
+        min_length=32,
+        description="HMAC-SHA256 key of the JWTs (32+ characters); None: random per process",
     )
     public_prefix: str = Field(
         default="public-", description="channels read-only for clients (server tokens only)"
+    )
+    allowed_origins: list[str] = Field(
+        default=["*"],
+        description="origins whose pages may subscribe (CORS, as nchan's "
+        "nchan_access_control_allow_origin); '*' allows any; others get 403",
     )
     first_message: Start = Field(default=Start.OLDEST, description="start without a last id")
     longpoll_timeout: float = Field(default=60.0, gt=0, description="seconds before 408")

@@ -12,7 +12,7 @@ from aiohttp import web
 from server.relay.cursor import Cursor
 from server.relay.errors import RelayError
 from server.relay.eventsource import eventsource_subscriber
-from server.relay.http import error_response, relay_of
+from server.relay.http import PREFLIGHT_HEADERS, check_origin, error_response, relay_of
 from server.relay.longpoll import longpoll_subscriber
 from server.relay.relay import check_channel
 from server.relay.websocket import websocket_subscriber
@@ -30,6 +30,7 @@ async def subscribe(request: web.Request) -> web.StreamResponse:
     is_websocket = request.headers.get("Upgrade", "").lower() == "websocket"
     is_eventsource = "text/event-stream" in request.headers.get("Accept", "")
     try:
+        check_origin(request, relay.settings.allowed_origins)
         channels = _channels(request.match_info["channels"], relay.settings.max_multiplex)
         if not (is_websocket or is_eventsource):
             if len(channels) > 1:
@@ -47,3 +48,19 @@ async def subscribe(request: web.Request) -> web.StreamResponse:
     except RelayError as error:
         return error_response(error)
     return await eventsource_subscriber(request, channels, cursor)
+
+
+async def preflight(request: web.Request) -> web.Response:
+    """The answer to a browser's CORS preflight (`OPTIONS`) of a subscriber request."""
+    relay = relay_of(request)
+    try:
+        check_origin(request, relay.settings.allowed_origins)
+        _channels(request.match_info["channels"], relay.settings.max_multiplex)
+    except RelayError as error:
+        return error_response(error)
+    headers = dict(PREFLIGHT_HEADERS)
+    origin = request.headers.get("Origin")
+    if origin is not None:
+        headers["Access-Control-Allow-Origin"] = origin
+        headers["Access-Control-Allow-Credentials"] = "true"
+    return web.Response(status=200, headers=headers)

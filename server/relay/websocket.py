@@ -11,7 +11,8 @@
 - A message's frame is built once and written straight to every subscriber's socket whose
   buffer has room (see `server.relay.sendqueue`); the rest wait in their bounded queues.
 - Gaps arrive as frames of type `application/vnd.relay.gap+json`; a deleted channel closes the
-  connection with 4410, an overflowing send queue with 1008, both with the reason.
+  connection with 1001 and the reason "410 Gone" (as nchan does), an overflowing send queue
+  with 1008 and the reason, an unreachable message store with 1013 (try again later).
 """
 
 from __future__ import annotations
@@ -30,23 +31,24 @@ from server.relay.frames import (
     notice,
     websocket_frame,
 )
-from server.relay.http import bearer_token, frame_message, relay_of
+from server.relay.http import bearer_token, frame_message, limit_socket_buffer, relay_of
 from server.relay.messages import DELETED, SHUTDOWN, ChannelClosed, Event, StoredMessage
 from server.relay.sendqueue import SendQueue
 from server.relay.subscribing import subscribe_all, unsubscribe_all
 
 META_PROTOCOL = "ws+meta.nchan"
-CLOSE_DELETED = 4410
+CLOSE_GOING_AWAY = 1001  # deleted channel (nchan's "410 Gone") or server shutdown
 CLOSE_OVERFLOW = 1008  # policy violation: the client did not keep up
-CLOSE_SHUTDOWN = 1001  # going away
+CLOSE_TRY_LATER = 1013
+DELETED_REASON = "410 Gone"
 
 
-def close_code(closed: ChannelClosed) -> int:
+def close_frame(closed: ChannelClosed) -> tuple[int, bytes]:
+    """The close code and reason that end a subscription, as nchan sends them."""
     if closed.reason == DELETED:
-        return CLOSE_DELETED
-    if closed.reason == SHUTDOWN:
-        return CLOSE_SHUTDOWN
-    return CLOSE_OVERFLOW
+        return CLOSE_GOING_AWAY, DELETED_REASON.encode()
+    code = CLOSE_GOING_AWAY if closed.reason == SHUTDOWN else CLOSE_OVERFLOW
+    return code, closed.reason.encode()[:123]
 
 
 class _Writer:
@@ -112,8 +114,8 @@ class _Writer:
         except ConnectionError:
             return  # the client has gone; the handler cleans up
         if queue.closed is not None:
-            reason = queue.closed.reason.encode()[:123]
-            await self.ws.close(code=close_code(queue.closed), message=reason)
+            code, reason = close_frame(queue.closed)
+            await self.ws.close(code=code, message=reason)
 
 
 def _direct_path(ws: web.WebSocketResponse, writer: _Writer) -> Callable[[Event], bool] | None:
@@ -138,11 +140,15 @@ async def websocket_subscriber(
     transport = request.transport
     if transport is None:
         return ws  # the client left during the handshake
+    limit_socket_buffer(request, settings.socket_buffer_bytes)
     writer = _Writer(ws, transport, cursor, ws.ws_protocol == META_PROTOCOL)
-    queue = SendQueue(
-        settings.send_queue_length, _direct_path(ws, writer), lambda: writer.start(queue)
-    )
-    subscriptions = await subscribe_all(relay, channels, cursor, queue)
+    queue = relay.send_queue(_direct_path(ws, writer), lambda: writer.start(queue))
+    try:
+        subscriptions = await subscribe_all(relay, channels, cursor, queue)
+    except RelayError as error:
+        queue.discard()
+        await ws.close(code=CLOSE_TRY_LATER, message=error.reason.encode()[:123])
+        return ws
     token = bearer_token(request)
     try:
         async for frame in ws:
@@ -155,5 +161,6 @@ async def websocket_subscriber(
     finally:
         if writer.task is not None:
             writer.task.cancel()
+        queue.discard()
         await unsubscribe_all(relay, subscriptions)
     return ws

@@ -24,7 +24,7 @@ from server.relay.http import RELAY_KEY
 from server.relay.relay import Relay
 from server.relay.settings import RelaySettings
 
-SECRET = "test-secret-0123456789"
+SECRET = "test-secret-" + "0123456789" * 6  # long enough for HS512 forgeries too
 WAIT_S = 10.0  # bound on waits for delivery on a loaded machine; no test asserts on time
 
 
@@ -68,7 +68,8 @@ class RelayHarness:
         if response.status == 404:
             return None
         assert response.status == 200
-        return await response.json()
+        assert response.headers["Content-Type"] == "text/json"  # as nchan answers
+        return json.loads(await response.text())
 
     async def ws(self, path: str, *, meta: bool = True) -> aiohttp.ClientWebSocketResponse:
         protocols = ("ws+meta.nchan",) if meta else ()

@@ -24,9 +24,11 @@ async def test_publish_answers_202_without_subscribers_and_201_with(relay: Relay
 async def test_publish_answers_channel_info_as_text_or_json(relay: RelayHarness) -> None:
     response = await relay.publish("game1", {"n": 1})
     text = await response.text()
-    assert response.content_type == "text/plain"
-    assert "queued messages: 1\n" in text
-    assert "active subscribers: 0\n" in text
+    assert response.headers["Content-Type"] == "text/plain"  # no charset, as nchan
+    lines = text.split("\r\n")  # CRLF line ends, no final one
+    assert lines[0] == "queued messages: 1"
+    assert lines[2] == "active subscribers: 0"
+    assert lines[3].startswith("last message id: ") and not text.endswith("\n")
     response = await relay.client.post(
         "/pub/game1",
         data=b"[2]",
@@ -36,7 +38,8 @@ async def test_publish_answers_channel_info_as_text_or_json(relay: RelayHarness)
             **relay.auth("game1"),
         },
     )
-    info = await response.json()
+    assert response.headers["Content-Type"] == "text/json"
+    info = json.loads(await response.text())
     assert info["messages"] == 2
     assert info["subscribers"] == 0
     assert parse_message_id(info["last_message_id"])
@@ -59,7 +62,7 @@ async def test_get_info_counts_messages_and_subscribers(relay: RelayHarness) -> 
     assert info["subscribers"] == 1
     response = await relay.client.get("/pub/game1", headers={"Accept": "text/plain"})
     text = await response.text()
-    assert f"last message id: {info['last_message_id']}\n" in text
+    assert text.endswith(f"\r\nlast message id: {info['last_message_id']}")
     await ws.close()
 
 
@@ -88,8 +91,8 @@ async def test_delete_closes_subscribers_and_forgets_the_channel(relay: RelayHar
     assert response.status == 200
     closing = await receive(ws)
     assert closing.type == aiohttp.WSMsgType.CLOSE
-    assert closing.data == 4410
-    assert closing.extra == "deleted"
+    assert closing.data == aiohttp.WSCloseCode.GOING_AWAY  # 1001, as nchan
+    assert closing.extra == "410 Gone"
     assert await relay.info("game1") is None
     again = await relay.client.delete("/pub/game1", headers=relay.auth("game1"))
     assert again.status == 404

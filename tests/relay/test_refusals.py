@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import time
+
+import jwt
 import msgpack
 import pytest
 
 from server.relay.auth import TokenAuthority
-from tests.relay.conftest import RelayHarness, StartRelay
+from tests.relay.conftest import SECRET, RelayHarness, StartRelay
 
 
 async def _post(
@@ -91,19 +94,37 @@ async def test_publish_without_token_is_401(relay: RelayHarness) -> None:
     assert await relay.info("game1") is None
 
 
-async def test_forged_token_is_401(relay: RelayHarness) -> None:
-    genuine = relay.token("game2")
-    body, _, signature = genuine.partition(".")
-    # Claims rewritten to another channel, signature kept: the HMAC no longer matches.
-    forged_body = relay.token("game1").partition(".")[0]
-    for token in (f"{forged_body}.{signature}", f"{body}.{signature[:-2]}AA", "garbage", "é.é"):
+def _forgeries(relay: RelayHarness) -> dict[str, str]:
+    """Tokens a hostile client could make from a genuine one for another channel."""
+    header, claims, signature = relay.token("game2").split(".")
+    wanted = relay.token("game1").split(".")[1]
+    now = int(time.time())
+    granted = {"sub": "x", "channels": ["game1"], "iat": now, "exp": now + 60}
+    secret = SECRET.encode()
+    return {
+        "claims swapped, signature kept": f"{header}.{wanted}.{signature}",
+        "signature altered": f"{header}.{claims}.{signature[:-4]}AAAA",
+        "alg none": jwt.encode(granted, None, algorithm="none"),
+        "alg HS512 with the same key": jwt.encode(granted, secret, algorithm="HS512"),
+        "no exp": jwt.encode({**granted, "exp": None}, secret, algorithm="HS256"),
+        "no iat": jwt.encode({k: v for k, v in granted.items() if k != "iat"}, secret),
+        "channels not a list": jwt.encode({**granted, "channels": "game1"}, secret),
+        "garbage": "garbage",
+        "two parts": f"{header}.{claims}",
+        "not ascii": "é.é.é",
+    }
+
+
+async def test_forged_or_malformed_token_is_401(relay: RelayHarness) -> None:
+    for what, token in _forgeries(relay).items():
         response = await relay.publish("game1", 1, token=token)
-        assert response.status == 401, token
+        assert response.status == 401, what
+        assert (await response.json())["status"] == 401
     assert await relay.info("game1") is None
 
 
 async def test_token_signed_with_another_secret_is_401(relay: RelayHarness) -> None:
-    other = TokenAuthority(b"another-secret-entirely", "public-")
+    other = TokenAuthority(b"another-secret-entirely-0123456789", "public-")
     response = await relay.publish("game1", 1, token=other.issue("x", ["game1"], 60))
     assert response.status == 401
     assert "signature" in (await response.json())["error"]

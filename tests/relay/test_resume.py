@@ -128,3 +128,22 @@ async def test_first_message_setting_picks_oldest_or_only_new(start_relay: Start
         await relay.publish_ok(f"game_{first}", 2)
         assert [value for _, value in await _collect(ws, len(expected))] == expected
         await ws.close()
+
+
+async def test_a_long_backlog_goes_out_page_by_page_exactly_once_while_publishing(
+    relay: RelayHarness,
+) -> None:
+    """A backlog many pages long, and live messages published while it is being sent: every
+    message arrives once, in order, with nothing skipped between the pages and the live feed."""
+    ids = [await relay.publish_ok("game1", n) for n in range(30)]
+    ws = await relay.ws("/sub/game1")
+    racing = asyncio.create_task(_publish_range(relay, 30, 60))
+    received = [await receive_meta(ws) for _ in range(60)]
+    ids += await racing
+    assert [message_id for message_id, _, _ in received] == ids
+    assert [json.loads(data) for _, _, data in received] == list(range(60))
+    await ws.close()
+
+
+async def _publish_range(relay: RelayHarness, start: int, stop: int) -> list[str]:
+    return [await relay.publish_ok("game1", n) for n in range(start, stop)]

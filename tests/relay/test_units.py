@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import jwt
 import pytest
 
 from server.relay.auth import AuthError, TokenAuthority
@@ -81,9 +82,24 @@ async def test_memory_ttl_expiry_is_a_gap_only_for_what_was_missed() -> None:
     clock.now = 1005.0
     b = (await backend.publish("c", b"2", "application/json")).message
     clock.now = 1012.0  # a has expired, b has not
-    backlog = await backend.read_since("c", a.id)
+    backlog = await backend.read_since("c", a.id, 10)
     assert (backlog.gap, [m.id for m in backlog.messages]) == (False, [b.id])
-    backlog = await backend.read_since("c", "999:0")
+    backlog = await backend.read_since("c", "999:0", 10)
     assert (backlog.gap, [m.id for m in backlog.messages]) == (True, [b.id])
     clock.now = 1020.0
     assert await backend.info("c") is None  # nothing buffered, nobody subscribed
+
+
+def test_tokens_are_hs256_jwts_carrying_a_display_name() -> None:
+    clock = FakeClock()
+    authority = TokenAuthority(b"k" * 32, "public-", clock=clock)
+    token = authority.issue("player-7", ["t1", "t2"], ttl=60, name="Ronnie")
+    assert jwt.get_unverified_header(token)["alg"] == "HS256"
+    claims = authority.verify(token)
+    assert (claims.sub, claims.name, claims.channels) == ("player-7", "Ronnie", ["t1", "t2"])
+    assert (claims.iat, claims.exp) == (int(clock.now), int(clock.now) + 60)
+    assert authority.verify(authority.issue("svc", [], 60, server=True)).name is None
+    unsigned = jwt.encode({"sub": "x", "channels": ["t1"], "iat": 1, "exp": 2**40}, None, "none")
+    with pytest.raises(AuthError) as refused:
+        authority.verify(unsigned)
+    assert refused.value.status == 401
