@@ -42,7 +42,7 @@ class Identity:
         if not await self._storage.claim_name(name_key(name), player.id, now + ONLINE, now):
             raise ServiceError(ErrorCode.NAME_TAKEN, f"the name {name!r} is in use")
         await self._storage.add_player(player)
-        token = self._authority.issue(player.id, [], TOKEN_TTL)
+        token = self._authority.issue(player.id, [], TOKEN_TTL, name=player.name)
         return PlayerToken(player=player, token=token, expires_at=int(now + TOKEN_TTL))
 
     async def authenticate(self, token: str | None) -> PlayerInfo:
