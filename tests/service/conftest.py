@@ -74,7 +74,7 @@ def a_table(
 
 
 # ----- a running server and clients of its API ------------------------------------------------
-SECRET = "service-test-secret-0123456789"
+SECRET = "service-test-secret-0123456789abcdef"
 WAIT_S = 30.0  # bound on waits for outcomes on a loaded machine; no test asserts on time
 
 

@@ -20,7 +20,7 @@ from server.storage.redis import RedisStorage
 from tests.redis_server import free_port
 from tests.service.test_match import abandon_input, picked
 
-SECRET = "replica-test-secret-0123456789"
+SECRET = "replica-test-secret-0123456789abcdef"
 START_TIMEOUT_S = 30.0
 
 
