@@ -1,0 +1,370 @@
+// /practice/{game} and /table/{id}: the table in 3D, the controls of the player to act, and
+// the match around it (scores, the referee's words, choices, clock, presence, quick messages,
+// resign, rematch). Everything shown comes from the server: the client sends intents only.
+import { ApiError, currentPlayer, get, post } from "../net/api.js";
+import { ensurePlayer, showWho } from "../net/identity.js";
+import { Controls } from "../play/controls.js";
+import { TableSession } from "../play/session.js";
+import { decisionWords, nextWords, optionWords, scoreWords, seatName } from "../play/words.js";
+import { Animation } from "../three/animate.js";
+import { TableView } from "../three/view.js";
+
+const QUICK_MESSAGES = {
+  hello: "Hello",
+  good_shot: "Good shot",
+  nice_try: "Nice try",
+  well_played: "Well played",
+  oops: "Oops",
+  thanks: "Thanks",
+  good_game: "Good game",
+  bye: "Bye",
+};
+
+const $ = (id) => document.getElementById(id);
+const geometry = fetch("/web/tables").then((r) => r.json());
+
+/** Diagnostics the browser tests read: every animation's frame intervals (ms). */
+const diagnostics = { animations: [], shown: 0 };
+window.billiards = diagnostics;
+
+function button(label, onClick, className = "") {
+  const b = document.createElement("button");
+  b.type = "button";
+  b.textContent = label;
+  b.className = className;
+  b.addEventListener("click", onClick);
+  return b;
+}
+
+/** The id of this player's practice table for `game`: the one kept from last time if it still
+ *  runs, else a new one. */
+async function practiceTable(game, me) {
+  const key = `billiards.practice.${game}`;
+  const kept = localStorage.getItem(key);
+  if (kept) {
+    try {
+      const view = await get(`/api/tables/${kept}`);
+      if (view.status === "playing" && view.seats[0]?.id === me.id) return kept;
+    } catch (e) {
+      if (!(e instanceof ApiError)) throw e;
+    }
+  }
+  const view = await post("/api/tables", { game, mode: "practice" });
+  localStorage.setItem(key, view.id);
+  return view.id;
+}
+
+class PlayPage {
+  constructor(tableId, me) {
+    this.me = me;
+    this.view3d = null;
+    this.shown = null; // the table as shown (a TableView, advanced by each outcome shown)
+    this.placement = null;
+    this.lastWords = "";
+    this.session = new TableSession(tableId, {
+      onView: (v) => this.showView(v),
+      onOutcome: (m) => this.showOutcome(m),
+      onChat: (m) => this.banner(`${m.from_name}: ${QUICK_MESSAGES[m.message] ?? m.message}`, 4000),
+      onPresence: (m) => this.showPresence(m.presence, m.grace_until),
+      onClock: (m) => {
+        if (this.shown?.next) this.shown.next.deadline = m.deadline;
+      },
+      onConnection: (s) => {
+        if (s === "closed") this.banner("Connection lost: reconnecting...");
+        else this.banner(null);
+      },
+    });
+    setInterval(() => this.tickClock(), 500);
+  }
+
+  mySeat(view = this.shown) {
+    if (!this.me || !view) return null;
+    const seat = view.seats.findIndex((s) => s?.id === this.me.id);
+    return seat < 0 ? null : seat;
+  }
+
+  async setup(view) {
+    const table = (await geometry)[view.game];
+    document.title = `billiards: ${view.game}`;
+    this.view3d = new TableView($("table"), table, view.game);
+    this.controls = new Controls(
+      this.view3d,
+      {
+        canvas: $("table"),
+        power: $("power"),
+        powerOut: $("power-out"),
+        elevation: $("elevation"),
+        elevationOut: $("elevation-out"),
+        tip: $("tip"),
+        hit: $("hit"),
+        viewToggle: $("view-toggle"),
+      },
+      { strike: (aim) => this.strike(aim), place: (p) => this.place(p) },
+    );
+    this.chatButtons();
+  }
+
+  async showView(view) {
+    if (!this.view3d) await this.setup(view);
+    this.animation?.stop();
+    this.shown = structuredClone(view);
+    this.view3d.setBalls(view.state.balls);
+    this.placement = null;
+    this.showPresence(view.presence, [null, null]);
+    this.session.beat(this.mySeat() !== null && view.status === "playing");
+    if (view.last_outcome?.decision && !this.lastWords) this.lastWords = decisionWords(view, view.last_outcome.decision);
+    this.refresh();
+    diagnostics.shown += 1;
+  }
+
+  showOutcome(message) {
+    const shown = this.shown;
+    const after = () => {
+      Object.assign(shown, {
+        state: message.state,
+        next: message.next,
+        rack: message.rack,
+        racks_won: message.racks_won,
+        status: message.status,
+        winner: message.winner,
+        version: message.version,
+      });
+      this.view3d.setBalls(message.state.balls);
+      this.placement = null;
+      if (message.decision) this.lastWords = decisionWords(shown, message.decision);
+      this.refresh();
+      diagnostics.shown += 1;
+    };
+    if (!message.trajectory) {
+      after();
+      return Promise.resolve();
+    }
+    this.controls.setEnabled(null);
+    this.status(`${seatName(shown, message.seat)} shoots...`);
+    return new Promise((resolve) => {
+      const animation = new Animation(this.view3d, message.trajectory, {
+        onDone: () => {
+          diagnostics.animations.push({ balls: Object.keys(message.trajectory.balls).length, frames: animation.frameTimes });
+          after();
+          resolve();
+        },
+      });
+      this.animation = animation;
+      animation.play();
+    });
+  }
+
+  status(text) {
+    $("status").textContent = text;
+  }
+
+  refresh() {
+    const v = this.shown;
+    const mine = this.mySeat();
+    const toAct = v.status === "playing" && v.next && v.next.seat === mine;
+    this.status([this.lastWords, nextWords(v), scoreWords(v)].filter(Boolean).join(" "));
+    this.scoreboard(v);
+    const shooting = toAct && v.next.kinds.includes("shot");
+    if (shooting) {
+      this.ensureCueBall(v);
+      this.aimAtNearest(v.next.cue_ball);
+    }
+    this.controls.setEnabled(shooting ? v.next.cue_ball : null, { placing: shooting ? v.next.ball_in_hand : null });
+    this.choices(toAct && v.next.kinds.includes("choice") ? v.next.options : []);
+    this.actions(v, mine);
+  }
+
+  scoreboard(v) {
+    const box = $("players");
+    box.replaceChildren();
+    const seats = v.mode === "practice" ? [0] : [0, 1];
+    for (const seat of seats) {
+      const name = document.createElement("span");
+      name.className = `name${v.next?.seat === seat && v.status === "playing" ? " to-act" : ""}`;
+      name.textContent = seatName(v, seat) + (v.presence?.[seat] === false ? " (disconnected)" : "");
+      const score = document.createElement("span");
+      score.className = "score";
+      score.textContent = String(v.state.scores[seat]);
+      box.append(name, score);
+    }
+    const clock = document.createElement("span");
+    clock.className = "clock";
+    clock.id = "clock";
+    box.append(clock);
+  }
+
+  tickClock() {
+    const clock = $("clock");
+    const deadline = this.shown?.next?.deadline;
+    if (!clock) return;
+    clock.textContent = deadline ? `Shot clock ${Math.max(0, Math.ceil(deadline - Date.now() / 1000))} s` : "";
+  }
+
+  /** With the cue ball in hand and off the table, put it on the region's usual spot. */
+  ensureCueBall(v) {
+    const cue = v.next.cue_ball;
+    if (v.state.balls[cue] || !v.next.ball_in_hand) return;
+    const t = this.view3d.table;
+    const spot = v.next.ball_in_hand === "D" ? [t.w / 2, t.baulk_y - t.d_radius / 2] : (t.spots.head ?? [t.w / 2, t.l / 4]);
+    this.place(spot);
+  }
+
+  place(p) {
+    const v = this.shown;
+    const t = this.view3d.table;
+    const x = Math.min(t.w - t.R, Math.max(t.R, p[0]));
+    const y = Math.min(t.l - t.R, Math.max(t.R, p[1]));
+    this.placement = [x, y];
+    this.view3d.setBalls({ ...v.state.balls, [v.next.cue_ball]: this.placement });
+    this.controls.show();
+  }
+
+  aimAtNearest(cue) {
+    const from = this.view3d.ballAt(cue);
+    if (!from) return;
+    let best = null;
+    for (const [id, p] of Object.entries(this.shown.state.balls)) {
+      if (id === cue) continue;
+      const d = Math.hypot(p[0] - from[0], p[1] - from[1]);
+      if (!best || d < best.d) best = { d, p };
+    }
+    if (best) this.controls.set({ heading: (Math.atan2(best.p[1] - from[1], best.p[0] - from[0]) * 180) / Math.PI });
+  }
+
+  async strike(aim) {
+    const v = this.shown;
+    const round = (x, digits) => Number(x.toFixed(digits));
+    const input = {
+      strike: {
+        ball: v.next.cue_ball,
+        speed: round(aim.speed, 3),
+        heading: round(aim.heading, 3),
+        elevation: aim.elevation,
+        a: round(aim.a, 3),
+        b: round(aim.b, 3),
+      },
+    };
+    if (this.placement) input.place = this.placement;
+    await this.send(input, "Shot sent.");
+  }
+
+  async send(input, words) {
+    try {
+      await this.session.intent(input);
+      this.status(words);
+    } catch (e) {
+      this.status(`Refused: ${e.message}`);
+      if (e.code === "stale_version") await this.session.resync();
+      else this.refresh();
+    }
+  }
+
+  choices(options) {
+    $("choices").replaceChildren(...options.map((o) => button(optionWords(o), () => this.send({ option: o }, "Choice sent."))));
+  }
+
+  actions(v, mine) {
+    const box = $("actions");
+    const list = [];
+    const act = (label, name) =>
+      button(label, async () => {
+        try {
+          await this.session.action(name);
+        } catch (e) {
+          this.status(`Refused: ${e.message}`);
+        }
+      });
+    if (mine === null && v.status === "open") {
+      list.push(
+        button(
+          "Join this table",
+          async () => {
+            this.me = await ensurePlayer();
+            try {
+              await this.session.action("join");
+            } catch (e) {
+              this.status(`Refused: ${e.message}`);
+            }
+          },
+          "primary",
+        ),
+      );
+    }
+    if (mine !== null && v.mode !== "practice") {
+      if (v.status === "playing") list.push(act("Resign", "resign"));
+      if (v.status === "playing" && v.presence?.[1 - mine] === false) list.push(act("Claim the win", "claim"));
+      if (v.status === "over") list.push(act(v.rematch?.[1 - mine] ? "Accept the rematch" : "Offer a rematch", "rematch"));
+      if (v.status === "open") list.push(act("Cancel", "leave"));
+    }
+    if (v.rematch_table) {
+      const a = document.createElement("a");
+      a.href = `/table/${v.rematch_table}`;
+      a.className = "button";
+      a.textContent = "Go to the rematch";
+      list.push(a);
+    }
+    if (v.mode !== "practice") {
+      list.push(
+        button("Copy link", () => {
+          navigator.clipboard?.writeText(`${location.origin}/table/${v.id}`);
+          this.banner("Link copied", 1500);
+        }),
+      );
+    }
+    box.replaceChildren(...list);
+    $("chat").hidden = v.mode === "practice";
+  }
+
+  chatButtons() {
+    $("chat").replaceChildren(
+      ...Object.entries(QUICK_MESSAGES).map(([code, words]) =>
+        button(words, () => this.session.action("messages", { message: code }).catch((e) => this.banner(e.message, 2000))),
+      ),
+    );
+  }
+
+  showPresence(presence, graceUntil) {
+    if (!this.shown) return;
+    this.shown.presence = presence;
+    const gone = presence.findIndex((p, seat) => !p && this.shown.seats[seat]);
+    if (gone >= 0 && this.shown.status === "playing") {
+      const until = graceUntil?.[gone];
+      const wait = until ? ` (may be claimed in ${Math.max(0, Math.round(until - Date.now() / 1000))} s)` : "";
+      this.banner(`${seatName(this.shown, gone)} disconnected${wait}`);
+    } else {
+      this.banner(null);
+    }
+    if (this.shown.state) {
+      this.scoreboard(this.shown);
+      this.actions(this.shown, this.mySeat());
+    }
+  }
+
+  banner(text, ms) {
+    const el = $("banner");
+    clearTimeout(this.bannerTimer);
+    el.hidden = !text;
+    el.textContent = text ?? "";
+    if (text && ms) this.bannerTimer = setTimeout(() => (el.hidden = true), ms);
+  }
+}
+
+async function main() {
+  const [, kind, param] = location.pathname.split("/");
+  let me;
+  let tableId = param;
+  if (kind === "practice") {
+    me = await ensurePlayer();
+    tableId = await practiceTable(param, me);
+  } else {
+    me = await currentPlayer();
+    showWho(me);
+  }
+  const page = new PlayPage(tableId, me);
+  const view = await page.session.start();
+  if (page.mySeat(view) === null && view.status !== "open") post(`/api/tables/${tableId}/watch`).catch(() => {});
+}
+
+main().catch((e) => {
+  document.getElementById("status").textContent = `Could not open the table: ${e.message}`;
+});

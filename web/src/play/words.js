@@ -1,0 +1,76 @@
+// The referee's decisions and the table's state in words, for the status line (role="status",
+// read out by screen readers) and the scoreboard. Names are always set as text, never as HTML.
+
+const OPTION_WORDS = {
+  play_on: "Play on",
+  play_again: "Make them play again",
+  replace: "Replace the balls",
+};
+
+const REGION_WORDS = {
+  anywhere: "anywhere",
+  kitchen: "behind the head string",
+  D: "in the D",
+};
+
+export function optionWords(option) {
+  return OPTION_WORDS[option] ?? option;
+}
+
+/** "the 9", "a red", "the pink", "the cue ball". */
+export function ballWords(id) {
+  if (id === "cue") return "the cue ball";
+  if (/^red\d+$/.test(id)) return "a red";
+  return `the ${id}`;
+}
+
+function list(items) {
+  if (items.length <= 1) return items.join("");
+  return `${items.slice(0, -1).join(", ")} and ${items[items.length - 1]}`;
+}
+
+export function seatName(view, seat) {
+  if (seat == null) return "";
+  return view.seats[seat]?.name ?? (view.mode === "practice" ? "You" : `Player ${seat + 1}`);
+}
+
+/** One decision as sentences: who shot, what fell, fouls, notes, the end of a rack or match. */
+export function decisionWords(view, d) {
+  const who = seatName(view, d.player);
+  const out = [];
+  const potted = d.pocketed.map(ballWords);
+  out.push(potted.length ? `${who} potted ${list(potted)}.` : `${who} potted nothing.`);
+  for (const foul of d.fouls) out.push(`Foul: ${foul}.`);
+  for (const note of d.notes) out.push(`${note.charAt(0).toUpperCase()}${note.slice(1)}.`);
+  const points = d.points.reduce((a, b) => a + b, 0);
+  if (points && view.game !== "nineball" && view.game !== "eightball") {
+    out.push(d.points.map((p, seat) => (p ? `${seatName(view, seat)} +${p}` : null)).filter(Boolean).join(", ") + ".");
+  }
+  if (d.over && d.winner != null) out.push(`${seatName(view, d.winner)} wins the ${view.game === "snooker" ? "frame" : "rack"}.`);
+  return out.join(" ");
+}
+
+/** Who acts next and how, in words ("Ada to shoot, ball in hand behind the head string."). */
+export function nextWords(view) {
+  if (view.status === "open") return "Waiting for an opponent.";
+  if (view.status === "cancelled") return "This table was cancelled.";
+  if (view.status === "over") {
+    return view.winner != null ? `Match over: ${seatName(view, view.winner)} wins.` : "Match over.";
+  }
+  const next = view.next;
+  if (!next) return "";
+  const who = seatName(view, next.seat);
+  if (next.kinds.includes("choice")) return `${who} to choose: ${next.options.map(optionWords).join(" or ")}.`;
+  const hand = next.ball_in_hand ? `, ball in hand ${REGION_WORDS[next.ball_in_hand] ?? next.ball_in_hand}` : "";
+  return `${who} to shoot${hand}.`;
+}
+
+/** The score line: racks or frames won, points in the rack, and the current break. */
+export function scoreWords(view) {
+  const s = view.state;
+  const names = [0, 1].filter((seat) => view.mode !== "practice" || seat === 0);
+  const scores = names.map((seat) => `${seatName(view, seat)} ${s.scores[seat]}`).join(", ");
+  const unit = view.game === "snooker" || view.game === "three_cushion" ? "points" : "racks";
+  const race = view.options?.race_to > 1 ? ` Racks won ${view.racks_won.join("-")}.` : "";
+  return `Score (${unit}): ${scores}. Break: ${s.visit}.${race}`;
+}
