@@ -5,7 +5,8 @@ import { ApiError, currentPlayer, get, post } from "../net/api.js";
 import { ensurePlayer, showWho } from "../net/identity.js";
 import { Controls } from "../play/controls.js";
 import { TableSession } from "../play/session.js";
-import { decisionWords, nextWords, optionWords, scoreWords, seatName } from "../play/words.js";
+import { readExtras, showExtras } from "../play/extras.js";
+import { decisionWords, nextPoolRun, nextWords, optionWords, scoreWords, seatName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableView } from "../three/view.js";
 
@@ -23,7 +24,8 @@ const QUICK_MESSAGES = {
 const $ = (id) => document.getElementById(id);
 const geometry = fetch("/web/tables").then((r) => r.json());
 
-/** Diagnostics the browser tests read: every animation's frame intervals (ms). */
+/** Diagnostics the browser tests read: per animation, its frame intervals and the main thread's
+ *  time per frame (ms); and how many table states have been shown. */
 const diagnostics = { animations: [], shown: 0 };
 window.billiards = diagnostics;
 
@@ -61,6 +63,7 @@ class PlayPage {
     this.shown = null; // the table as shown (a TableView, advanced by each outcome shown)
     this.placement = null;
     this.lastWords = "";
+    this.poolRun = 0;
     this.session = new TableSession(tableId, {
       onView: (v) => this.showView(v),
       onOutcome: (m) => this.showOutcome(m),
@@ -131,7 +134,10 @@ class PlayPage {
       });
       this.view3d.setBalls(message.state.balls);
       this.placement = null;
-      if (message.decision) this.lastWords = decisionWords(shown, message.decision);
+      if (message.decision) {
+        this.lastWords = decisionWords(shown, message.decision);
+        this.poolRun = nextPoolRun(this.poolRun, message.decision);
+      }
       this.refresh();
       diagnostics.shown += 1;
     };
@@ -144,7 +150,12 @@ class PlayPage {
     return new Promise((resolve) => {
       const animation = new Animation(this.view3d, message.trajectory, {
         onDone: () => {
-          diagnostics.animations.push({ balls: Object.keys(message.trajectory.balls).length, frames: animation.frameTimes });
+          diagnostics.animations.push({
+            balls: Object.keys(message.trajectory.balls).length,
+            duration: message.trajectory.duration,
+            intervals: animation.frameTimes,
+            draws: this.view3d.drawTimes,
+          });
           after();
           resolve();
         },
@@ -162,9 +173,10 @@ class PlayPage {
     const v = this.shown;
     const mine = this.mySeat();
     const toAct = v.status === "playing" && v.next && v.next.seat === mine;
-    this.status([this.lastWords, nextWords(v), scoreWords(v)].filter(Boolean).join(" "));
+    this.status([this.lastWords, nextWords(v), scoreWords(v, this.poolRun)].filter(Boolean).join(" "));
     this.scoreboard(v);
     const shooting = toAct && v.next.kinds.includes("shot");
+    showExtras($("extras"), shooting ? v : null);
     if (shooting) {
       this.ensureCueBall(v);
       this.aimAtNearest(v.next.cue_ball);
@@ -245,6 +257,7 @@ class PlayPage {
       },
     };
     if (this.placement) input.place = this.placement;
+    Object.assign(input, readExtras($("extras")));
     await this.send(input, "Shot sent.");
   }
 

@@ -20,7 +20,7 @@ export class Animation {
     this.time = 0;
     this.paused = false;
     this.last = null;
-    this.frameTimes = [];
+    this.frameTimes = []; // intervals between frames (ms): the frame rate achieved
     this.pockets = new Map();
     const byName = new Map(view.table.pockets.map((p) => [p.name, p.center]));
     for (const e of trajectory.events) {
@@ -32,6 +32,7 @@ export class Animation {
   }
 
   play() {
+    this.view.drawTimes = [];
     this.view.setBalls(this.positions(0));
     this.view.animating += 1;
     this.view.frameHooks.push(this.hook);

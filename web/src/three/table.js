@@ -58,7 +58,6 @@ function cloth(table, colours) {
 function pocketCups(table, group) {
   const black = new THREE.MeshBasicMaterial({ color: 0x050505, side: THREE.DoubleSide });
   const { toWorld } = frame(table);
-  const railTop = table.cushion_height + 0.012;
   for (const p of table.pockets) {
     const r = p.radius * HOLE_SCALE;
     const cup = new THREE.Mesh(new THREE.CylinderGeometry(r, r * 0.8, 0.12, 24, 1, true), black);
@@ -68,11 +67,6 @@ function pocketCups(table, group) {
     bottom.rotation.x = -Math.PI / 2;
     bottom.position.copy(toWorld(p.center[0], p.center[1], -0.1));
     group.add(bottom);
-    // The opening seen on the rail's top, where the hole cuts into the wood.
-    const mouth = new THREE.Mesh(new THREE.CircleGeometry(r, 24), black);
-    mouth.rotation.x = -Math.PI / 2;
-    mouth.position.copy(toWorld(p.center[0], p.center[1], railTop + 0.0005));
-    group.add(mouth);
   }
 }
 
@@ -95,29 +89,51 @@ function cushions(table, colours, group) {
   }
 }
 
+/** The inner edge of the rails: the rectangle behind the cushions, bulging round each pocket
+ *  hole (points of the rectangle inside a hole are pushed out along the radius to its rim). */
+function railEdge(table) {
+  const c = CUSHION_WIDTH;
+  const corners = [
+    [-c, -c],
+    [table.w + c, -c],
+    [table.w + c, table.l + c],
+    [-c, table.l + c],
+  ];
+  const points = [];
+  const step = 0.004;
+  for (let k = 0; k < 4; k++) {
+    const [x0, y0] = corners[k];
+    const [x1, y1] = corners[(k + 1) % 4];
+    const n = Math.ceil(Math.hypot(x1 - x0, y1 - y0) / step);
+    for (let i = 0; i < n; i++) {
+      let x = x0 + ((x1 - x0) * i) / n;
+      let y = y0 + ((y1 - y0) * i) / n;
+      for (const p of table.pockets) {
+        const r = p.radius * HOLE_SCALE;
+        const dx = x - p.center[0];
+        const dy = y - p.center[1];
+        const d = Math.hypot(dx, dy);
+        if (d < r && d > 0) [x, y] = [p.center[0] + (dx / d) * r, p.center[1] + (dy / d) * r];
+      }
+      points.push(new THREE.Vector2(x, y));
+    }
+  }
+  return new THREE.Path(points);
+}
+
 function rails(table, colours, group) {
   const material = new THREE.MeshStandardMaterial({ color: colours.rail, roughness: 0.45, metalness: 0.05 });
   const top = table.cushion_height + 0.012;
-  const inner = CUSHION_WIDTH;
-  const outer = CUSHION_WIDTH + RAIL_WIDTH;
-  const { w, l } = table;
-  const pieces = [
-    [-outer, -outer, w + outer, -inner],
-    [-outer, l + inner, w + outer, l + outer],
-    [-outer, -inner, -inner, l + inner],
-    [w + inner, -inner, w + outer, l + inner],
-  ];
-  for (const [x0, y0, x1, y1] of pieces) {
-    const shape = shapeOf([
-      [x0, y0],
-      [x1, y0],
-      [x1, y1],
-      [x0, y1],
-    ]);
-    const geometry = new THREE.ExtrudeGeometry(shape, { depth: top + 0.04, bevelEnabled: false });
-    group.add(layFlat(geometry, material, table, -0.04));
-  }
-  // The cushions' rubber sits on a strip of wood between cloth and rail.
+  const m = CUSHION_WIDTH + RAIL_WIDTH;
+  const shape = shapeOf([
+    [-m, -m],
+    [table.w + m, -m],
+    [table.w + m, table.l + m],
+    [-m, table.l + m],
+  ]);
+  shape.holes.push(railEdge(table));
+  const geometry = new THREE.ExtrudeGeometry(shape, { depth: top + 0.04, bevelEnabled: false, curveSegments: 4 });
+  group.add(layFlat(geometry, material, table, -0.04));
   return top;
 }
 

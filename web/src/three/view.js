@@ -55,6 +55,7 @@ export class TableView {
     this.animating = 0;
     this.pending = false;
     this.frameHooks = [];
+    this.drawTimes = [];
     this.addLights();
     const built = makeTable(table, game);
     this.extent = built.extent;
@@ -261,10 +262,14 @@ export class TableView {
 
   draw(now) {
     this.pending = false;
+    const started = performance.now();
+    const animating = this.animating > 0;
     for (const hook of this.frameHooks) hook(now);
     this.placeAimMarks();
     this.placeCamera();
     this.renderer.render(this.scene, this.camera);
+    // The main thread's cost of an animation frame (evaluation, scene update, WebGL calls).
+    if (animating) this.drawTimes.push(performance.now() - started);
     if (this.animating) this.invalidate();
   }
 
