@@ -1,7 +1,8 @@
 """The aiohttp application of the billiards server: `create_app(settings)`.
 
-For now it mounts the relay (`server.relay`). Its backend follows the settings: in memory by
-default (one process), Redis Streams when a Redis URL is given (several replicas).
+It mounts the relay (`server.relay`) and the game service's API (`server.api`). Both follow
+the settings: in memory and SQLite by default (one process), Redis when a Redis URL is given
+(several replicas).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from collections.abc import AsyncIterator
 from aiohttp import web
 from pydantic import BaseModel, ConfigDict, Field
 
+from server.api import mount_api
 from server.relay.backend import Backend
 from server.relay.memory import MemoryBackend
 from server.relay.relay import Relay
@@ -26,6 +28,10 @@ class AppSettings(BaseModel):
 
     relay: RelaySettings = Field(default_factory=RelaySettings)
     redis_url: str | None = Field(default=None, description="Redis backend; None: in memory")
+    database: str | None = Field(
+        default=None, description="SQLite file of the game service (without Redis); None: memory"
+    )
+    workers: int | None = Field(default=None, ge=1, description="simulation processes")
 
 
 def make_backend(settings: AppSettings) -> Backend:
@@ -42,7 +48,8 @@ def create_app(settings: AppSettings | None = None) -> web.Application:
     settings = settings or AppSettings()
     app = web.Application()
     backend = make_backend(settings)
-    mount_relay(app, Relay.build(backend, settings.relay))
+    relay = Relay.build(backend, settings.relay)
+    mount_relay(app, relay)
     mount_web(app)
 
     async def backend_lifetime(app: web.Application) -> AsyncIterator[None]:
@@ -50,4 +57,11 @@ def create_app(settings: AppSettings | None = None) -> web.Application:
         await backend.close()
 
     app.cleanup_ctx.append(backend_lifetime)
+    mount_api(
+        app,
+        relay,
+        database=settings.database,
+        redis_url=settings.redis_url,
+        workers=settings.workers,
+    )
     return app

@@ -1,0 +1,327 @@
+"""Every request, answer and channel message of the game service, as pydantic models.
+
+docs/protocol.md describes them for client authors; the OpenAPI description served at
+`/api/openapi.json` is generated from these classes. Requests forbid unknown fields and
+non-finite numbers, so a malformed request fails here, before anything is looked up.
+"""
+
+from __future__ import annotations
+
+from enum import StrEnum
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, StringConstraints
+
+from physics.trajectory import Event
+from rules.inputs import PlayerInput
+from rules.racks import GameName
+from rules.state import Decision, Region, State
+from server.errors import ErrorCode
+
+#: The format version of channel messages; bumped when a client must change to read them.
+PROTOCOL = 1
+
+_REQUEST = ConfigDict(frozen=True, extra="forbid")
+_ANSWER = ConfigDict(frozen=True)
+
+#: Letters, digits, `_`, `-`, `.` and inner spaces: nothing a page could take for markup.
+NAME_PATTERN = r"^[A-Za-z0-9_.\-](?:[A-Za-z0-9_. \-]*[A-Za-z0-9_.\-])?$"
+DisplayName = Annotated[str, StringConstraints(min_length=1, max_length=24, pattern=NAME_PATTERN)]
+ShotId = Annotated[str, StringConstraints(pattern=r"^[A-Za-z0-9_-]{8,64}$")]
+TableId = Annotated[str, StringConstraints(pattern=r"^[0-9a-f]{20}$")]
+Seat = Annotated[int, Field(ge=0, le=1)]
+
+
+class Mode(StrEnum):
+    MATCH = "match"
+    PRACTICE = "practice"
+    BOT = "bot"
+
+
+class Status(StrEnum):
+    OPEN = "open"
+    PLAYING = "playing"
+    OVER = "over"
+    CANCELLED = "cancelled"
+
+
+class InputKind(StrEnum):
+    SHOT = "shot"
+    CHOICE = "choice"
+
+
+class BotName(StrEnum):
+    PICKER = "picker"
+
+
+class QuickText(StrEnum):
+    """The fixed set of quick messages: nothing else can be said, so nothing to moderate."""
+
+    GOOD_SHOT = "good_shot"
+    GOOD_GAME = "good_game"
+    NICE_TRY = "nice_try"
+    WELL_PLAYED = "well_played"
+    THANKS = "thanks"
+    OOPS = "oops"
+    HELLO = "hello"
+    BYE = "bye"
+
+
+# ----- errors ---------------------------------------------------------------------------------
+class ApiError(BaseModel):
+    """The body of every refusal (the request changed nothing)."""
+
+    model_config = _ANSWER
+
+    code: ErrorCode
+    reason: str
+    rule: str | None = Field(default=None, description="the referee's own code, if any")
+
+
+# ----- identity -------------------------------------------------------------------------------
+class PlayerCreate(BaseModel):
+    model_config = _REQUEST
+
+    name: DisplayName
+
+
+class PlayerInfo(BaseModel):
+    model_config = _ANSWER
+
+    id: str
+    name: str
+
+
+class PlayerToken(BaseModel):
+    model_config = _ANSWER
+
+    player: PlayerInfo
+    token: str
+    expires_at: int = Field(description="unix time after which the token is refused")
+
+
+# ----- tables ---------------------------------------------------------------------------------
+class TableOptions(BaseModel):
+    model_config = _REQUEST
+
+    race_to: Annotated[int, Field(ge=1, le=15)] = 1
+    shot_clock: Annotated[int, Field(ge=0, le=300)] = Field(
+        default=0, description="seconds per shot, 0: no clock (else at least 10)"
+    )
+    private: bool = False
+
+
+class TableCreate(BaseModel):
+    model_config = _REQUEST
+
+    game: GameName
+    mode: Mode = Mode.MATCH
+    race_to: Annotated[int, Field(ge=1, le=15)] = 1
+    shot_clock: Annotated[int, Field(ge=0, le=300)] = 0
+    private: bool = False
+    bot: BotName = BotName.PICKER
+
+    def options(self) -> TableOptions:
+        return TableOptions(race_to=self.race_to, shot_clock=self.shot_clock, private=self.private)
+
+
+class Constraints(BaseModel):
+    """What the seat to act may send now."""
+
+    model_config = _ANSWER
+
+    seat: Seat
+    player: str | None = Field(description="the id of the player in that seat")
+    kinds: list[InputKind]
+    cue_ball: str
+    ball_in_hand: Region | None = None
+    options: list[str] = []
+    deadline: float | None = Field(default=None, description="unix time the shot clock ends")
+
+
+class TableSummary(BaseModel):
+    model_config = _ANSWER
+
+    id: TableId
+    game: GameName
+    mode: Mode
+    status: Status
+    seats: list[PlayerInfo | None]
+    options: TableOptions
+    spectators: int = 0
+
+
+class TableList(BaseModel):
+    model_config = _ANSWER
+
+    tables: list[TableSummary]
+
+
+class TableView(BaseModel):
+    """The full state of a table: what a client starts from and resyncs to."""
+
+    model_config = _ANSWER
+
+    id: TableId
+    channel: str
+    game: GameName
+    mode: Mode
+    options: TableOptions
+    status: Status
+    seats: list[PlayerInfo | None]
+    version: int
+    rack: int
+    racks_won: tuple[int, int]
+    state: State
+    next: Constraints | None
+    last_outcome: OutcomeMessage | None = None
+    presence: tuple[bool, bool] = (True, True)
+    spectators: int = 0
+    winner: Seat | None = None
+    rematch: tuple[bool, bool] = (False, False)
+    rematch_table: TableId | None = None
+
+
+class QuickRequest(BaseModel):
+    model_config = _REQUEST
+
+    game: GameName
+
+
+class QuickStatus(BaseModel):
+    model_config = _ANSWER
+
+    status: Literal["waiting", "paired", "cancelled", "idle"]
+    table: TableId | None = None
+
+
+# ----- intents --------------------------------------------------------------------------------
+class Intent(BaseModel):
+    model_config = _REQUEST
+
+    version: Annotated[int, Field(ge=0)]
+    shot_id: ShotId
+    input: PlayerInput
+
+
+class IntentAccepted(BaseModel):
+    model_config = _ANSWER
+
+    status: Literal["accepted"] = "accepted"
+    version: int = Field(description="the version the outcome will carry")
+
+
+class IntentDuplicate(BaseModel):
+    model_config = _ANSWER
+
+    status: Literal["duplicate"] = "duplicate"
+    version: int
+    outcome: OutcomeMessage | None = Field(description="None while it is still being played")
+
+
+class QuickMessageRequest(BaseModel):
+    model_config = _REQUEST
+
+    message: QuickText
+
+
+# ----- channel messages -----------------------------------------------------------------------
+#: One segment on the wire: [t, state, rx, ry, vx, vy, ax, ay, wx, wy, wz, dwx, dwy, dwz].
+WireSegment = tuple[
+    float, str, float, float, float, float, float, float, float, float, float, float, float, float
+]
+
+
+class Trajectory(BaseModel):
+    """The engine's per-ball polynomial motion of one shot, compact (see docs/protocol.md)."""
+
+    model_config = _ANSWER
+
+    duration: float
+    events: list[Event]
+    balls: dict[str, list[WireSegment]]
+
+
+class OutcomeMessage(BaseModel):
+    """One input played: published once on the table channel, after it was stored."""
+
+    model_config = _ANSWER
+
+    kind: Literal["outcome"] = "outcome"
+    protocol: int = PROTOCOL
+    table: TableId
+    version: int
+    shot_id: ShotId
+    seat: Seat
+    input: PlayerInput
+    decision: Decision | None
+    trajectory: Trajectory | None
+    state: State
+    next: Constraints | None
+    rack: int
+    racks_won: tuple[int, int]
+    status: Status
+    winner: Seat | None = None
+    void: str | None = Field(
+        default=None, description="why the accepted input could not be played (state unchanged)"
+    )
+
+
+class TableMessage(BaseModel):
+    model_config = _ANSWER
+
+    kind: Literal["table"] = "table"
+    protocol: int = PROTOCOL
+    version: int
+    view: TableView
+
+
+class ClockMessage(BaseModel):
+    model_config = _ANSWER
+
+    kind: Literal["clock"] = "clock"
+    protocol: int = PROTOCOL
+    version: int
+    seat: Seat
+    deadline: float
+
+
+class PresenceMessage(BaseModel):
+    model_config = _ANSWER
+
+    kind: Literal["presence"] = "presence"
+    protocol: int = PROTOCOL
+    version: int
+    presence: tuple[bool, bool]
+    grace_until: tuple[float | None, float | None]
+
+
+class ChatMessage(BaseModel):
+    model_config = _ANSWER
+
+    kind: Literal["chat"] = "chat"
+    protocol: int = PROTOCOL
+    version: int
+    from_name: str
+    seat: Seat | None
+    message: QuickText
+
+
+class LobbyMessage(BaseModel):
+    model_config = _ANSWER
+
+    kind: Literal["lobby"] = "lobby"
+    protocol: int = PROTOCOL
+    tables: list[TableSummary]
+    players_online: int
+
+
+class PairedMessage(BaseModel):
+    model_config = _ANSWER
+
+    kind: Literal["paired"] = "paired"
+    protocol: int = PROTOCOL
+    table: TableId
+
+
+TableView.model_rebuild()

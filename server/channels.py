@@ -1,0 +1,35 @@
+"""The service's own publishing on relay channels: in process, straight into the backend.
+
+Clients publish through the relay's checks (tokens, rate, the 64 KiB client limit); the game
+service is the relay's owner, so its messages skip the per-holder rate limit (a busy server
+publishes far more than one player) and the client size limit (an eight-ball break's outcome,
+trajectory included, is about 40 KB of JSON). Messages are the pydantic models of
+server/api_models.py as JSON, which every transport (WebSocket, EventSource, long-poll) carries.
+"""
+
+from __future__ import annotations
+
+from pydantic import BaseModel
+
+from server.relay.messages import Published
+from server.relay.payloads import JSON
+from server.relay.relay import Relay
+
+LOBBY = "public-lobby"
+
+
+def player_channel(player_id: str) -> str:
+    return f"player-{player_id}"
+
+
+class Publisher:
+    def __init__(self, relay: Relay) -> None:
+        self.relay = relay
+
+    async def publish(self, channel: str, message: BaseModel) -> Published:
+        return await self.relay.backend.publish(channel, message.model_dump_json().encode(), JSON)
+
+    async def subscribers(self, channel: str) -> int:
+        """Subscribers of `channel` on every replica (the relay's global count)."""
+        info = await self.relay.backend.info(channel)
+        return info.subscribers if info else 0

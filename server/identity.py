@@ -1,0 +1,78 @@
+"""Guest identity: a display name in, a signed token out; the token names the player after.
+
+Tokens are the relay's (`TokenAuthority.issue` / `verify`: one token format for the whole app),
+with the player's id as subject and no publish grants: players never publish on game channels,
+they send intents over HTTP. The display name lives in storage beside the id, so a token stays
+valid across reloads and restarts as long as the signing key does (see `load_secret`).
+
+Names are unique among players *online*: a claim on the case-folded name lasts `ONLINE` seconds
+and each authenticated heartbeat renews it; once it lapses the name is free for someone else.
+"""
+
+from __future__ import annotations
+
+import os
+import secrets
+import time
+from pathlib import Path
+
+from server.api_models import PlayerInfo, PlayerToken
+from server.errors import ErrorCode, ServiceError
+from server.relay.auth import AuthError, TokenAuthority
+from server.storage import Storage
+
+#: How long a player's token is valid (s): a month of coming back to the same name.
+TOKEN_TTL = 30 * 24 * 3600
+#: How long a name stays reserved after its player's last sign of life (s).
+ONLINE = 300.0
+
+
+def load_secret(path: Path) -> str:
+    """The token signing key kept at `path`, created (owner-only) on first use.
+
+    A key that survives restarts is what lets a player's token survive them; replicas share
+    one key through `BILLIARDS_RELAY_SECRET` instead.
+    """
+    if path.exists():
+        return path.read_text().strip()
+    secret = secrets.token_hex(32)
+    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    with os.fdopen(fd, "w") as file:
+        file.write(secret)
+    return secret
+
+
+def name_key(name: str) -> str:
+    return name.casefold()
+
+
+class Identity:
+    def __init__(self, authority: TokenAuthority, storage: Storage) -> None:
+        self._authority = authority
+        self._storage = storage
+
+    async def register(self, name: str) -> PlayerToken:
+        """A new player with `name` and its token; NAME_TAKEN if a player online has it."""
+        player = PlayerInfo(id=f"p_{secrets.token_hex(8)}", name=name)
+        now = time.time()
+        if not await self._storage.claim_name(name_key(name), player.id, now + ONLINE, now):
+            raise ServiceError(ErrorCode.NAME_TAKEN, f"the name {name!r} is in use")
+        await self._storage.add_player(player)
+        token = self._authority.issue(player.id, [], TOKEN_TTL)
+        return PlayerToken(player=player, token=token, expires_at=int(now + TOKEN_TTL))
+
+    async def authenticate(self, token: str | None) -> PlayerInfo:
+        """The player a genuine, unexpired token names; UNAUTHORIZED otherwise."""
+        try:
+            claims = self._authority.verify(token)
+        except AuthError as error:
+            raise ServiceError(ErrorCode.UNAUTHORIZED, error.reason) from None
+        player = await self._storage.get_player(claims.sub)
+        if player is None:
+            raise ServiceError(ErrorCode.UNAUTHORIZED, "token names no player")
+        return player
+
+    async def seen(self, player: PlayerInfo) -> None:
+        """Renew the player's name claim (it is online)."""
+        now = time.time()
+        await self._storage.claim_name(name_key(player.name), player.id, now + ONLINE, now)

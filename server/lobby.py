@@ -1,0 +1,117 @@
+"""The lobby: the `public-lobby` channel's batched snapshots, and quick-match pairing.
+
+Lobby updates are batched as lichess batches its crowd updates: a change only marks the lobby
+dirty, and at most once per `BATCH` seconds one snapshot (open tables, games in progress with
+their spectators, players online) is published; the last value wins. So a thousand players
+joining within a second cost two snapshots, not a million messages, and a client that
+subscribes late gets the newest snapshot from the relay's buffer.
+
+Pairing is atomic in storage (server/storage, invariant 9): the caller who finds a partner
+creates the table for both; nobody is seated twice and no table gets a third player.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import secrets
+import time
+from collections.abc import AsyncIterator
+
+from server import tables
+from server.api_models import (
+    LobbyMessage,
+    PairedMessage,
+    PlayerInfo,
+    QuickStatus,
+    TableCreate,
+    TableList,
+    TableSummary,
+)
+from server.channels import LOBBY, Publisher, player_channel
+from server.errors import ErrorCode, ServiceError
+from server.storage import Storage
+from server.tables import TableRecord
+
+log = logging.getLogger(__name__)
+
+#: Seconds between lobby snapshots while something changes.
+BATCH = 0.7
+#: Most tables a snapshot lists (newest first).
+LISTED = 100
+
+
+def new_table_id() -> str:
+    """80 random bits: a private table's id is its invitation and cannot be guessed."""
+    return secrets.token_hex(10)
+
+
+def new_seed() -> int:
+    return secrets.randbelow(2**62)
+
+
+class Lobby:
+    def __init__(self, storage: Storage, publisher: Publisher) -> None:
+        self._storage = storage
+        self._publisher = publisher
+        self._dirty = asyncio.Event()
+
+    def changed(self) -> None:
+        """Something the lobby shows changed: a snapshot goes out within `BATCH` seconds."""
+        self._dirty.set()
+
+    @contextlib.asynccontextmanager
+    async def running(self) -> AsyncIterator[None]:
+        """Publish batched snapshots while the context is open."""
+        task = asyncio.create_task(self._run())
+        try:
+            yield
+        finally:
+            task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await task
+
+    async def _run(self) -> None:
+        while True:
+            await self._dirty.wait()
+            self._dirty.clear()
+            try:
+                await self._publisher.publish(LOBBY, await self.snapshot())
+            except Exception:  # storage or relay trouble: the next change tries again
+                log.exception("lobby snapshot failed")
+            await asyncio.sleep(BATCH)
+
+    async def spectators(self, record: TableRecord) -> int:
+        """Readers of the table's channel who are not its seated players."""
+        readers = await self._publisher.subscribers(record.channel)
+        seated = sum(1 for p in record.seats if p is not None and not tables.is_bot(p))
+        return max(0, readers - seated)
+
+    async def tables(self) -> TableList:
+        listed = await self._storage.listed_tables(LISTED)
+        summaries: list[TableSummary] = [
+            tables.summary(record, await self.spectators(record)) for record in listed
+        ]
+        return TableList(tables=summaries)
+
+    async def snapshot(self) -> LobbyMessage:
+        online = await self._storage.online_players(time.time())
+        return LobbyMessage(tables=(await self.tables()).tables, players_online=online)
+
+    # ----- quick match ------------------------------------------------------------------
+    async def quick(self, player: PlayerInfo, create: TableCreate) -> QuickStatus:
+        """Pair `player` with the next player waiting for the same game, or queue it."""
+        table_id = new_table_id()
+        partner_id = await self._storage.pair(create.game, player.id, table_id)
+        if partner_id is None:
+            return await self._storage.quick_status(player.id)
+        partner = await self._storage.get_player(partner_id)
+        if partner is None:
+            raise ServiceError(ErrorCode.UNAVAILABLE, "the paired player vanished")
+        record = tables.join(tables.new_table(table_id, create, partner, new_seed()), player)
+        await self._storage.create_table(record)
+        for who in (partner, player):
+            await self._publisher.publish(player_channel(who.id), PairedMessage(table=table_id))
+        self.changed()
+        return QuickStatus(status="paired", table=table_id)

@@ -1,0 +1,76 @@
+"""The game service's parts, built once per server process and shared by the HTTP handlers.
+
+Storage follows the settings: SQLite (a file, or in memory when none is given) by default,
+Redis when the app runs with a Redis URL (then replicas share it, and the relay's Redis too).
+"""
+
+from __future__ import annotations
+
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from dataclasses import dataclass, field
+
+from aiohttp import web
+
+from server.api_models import PresenceMessage
+from server.channels import Publisher
+from server.identity import Identity
+from server.lobby import Lobby
+from server.match import MatchContext, Matches, new_replica_id
+from server.relay.relay import Relay
+from server.storage import Storage
+from server.workers import WorkerPool, default_workers
+
+
+@dataclass
+class Service:
+    storage: Storage
+    pool: WorkerPool
+    publisher: Publisher
+    identity: Identity
+    lobby: Lobby
+    matches: Matches
+    #: The presence each table last announced from this process (to announce changes once).
+    presence: dict[str, PresenceMessage] = field(default_factory=dict)
+    #: When each (table, player) last sent a quick message (rate limit).
+    chatted: dict[tuple[str, str], float] = field(default_factory=dict)
+
+
+async def open_storage(database: str | None, redis_url: str | None) -> Storage:
+    if redis_url is not None:
+        from server.storage.redis import RedisStorage
+
+        return await RedisStorage.open(redis_url)
+    from server.storage.sqlite import SqliteStorage
+
+    return await SqliteStorage.open(database or ":memory:")
+
+
+@asynccontextmanager
+async def running_service(
+    relay: Relay, database: str | None, redis_url: str | None, workers: int | None
+) -> AsyncIterator[Service]:
+    """The service, its storage open, worker pool started and lobby publishing, until exit."""
+    storage = await open_storage(database, redis_url)
+    pool = WorkerPool(workers or default_workers())
+    publisher = Publisher(relay)
+    lobby = Lobby(storage, publisher)
+    context = MatchContext(storage, pool, publisher, lobby.changed, new_replica_id())
+    service = Service(
+        storage=storage,
+        pool=pool,
+        publisher=publisher,
+        identity=Identity(relay.authority, storage),
+        lobby=lobby,
+        matches=Matches(context),
+    )
+    try:
+        async with lobby.running():
+            yield service
+            await service.matches.idle()
+    finally:
+        pool.close()
+        await storage.close()
+
+
+SERVICE_KEY = web.AppKey("service", Service)

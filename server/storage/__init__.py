@@ -1,0 +1,154 @@
+"""What the game service keeps, and the guarantees every storage backend must keep.
+
+Players, display-name claims, tables with their accepted inputs, and the quick-match queue.
+`SqliteStorage` (server/storage/sqlite.py, aiosqlite, one file: the embedded default) and
+`RedisStorage` (server/storage/redis.py, redis-py asyncio, shared by replicas) implement
+`Storage` and pass the same tests (tests/service/test_storage.py, run on both).
+
+What a backend must guarantee
+-----------------------------
+1. **Durable once answered.** A write that returned has been handed to the database (SQLite:
+   committed; Redis: the command answered, durable as far as Redis persists). A restarted
+   server reads back exactly what was written.
+2. **Compare-and-set on the table version.** `accept`, `resolve` and `update` each succeed only
+   if the stored table is exactly in the state the caller read (same `version`, same pending
+   input), and then write atomically; otherwise they change nothing and say so. Two replicas
+   that act on the same version of a table can never both succeed.
+3. **One accepted input at a time.** `accept` stores an input as the table's `pending` input
+   (with the record) only when no input is pending; `resolve` replaces the pending input by its
+   outcome and the table's next version in one atomic write. So every input that was
+   acknowledged is stored before its outcome exists, and each input is resolved at most once.
+4. **Shot ids are unique per table.** `accept` refuses a shot id the table has already
+   accepted and returns the stored entry instead (`Duplicate`), with its outcome once resolved.
+5. **Input log.** `inputs` lists the resolved inputs of a table in the order they were played,
+   each with its outcome; `find_input` finds one by shot id, pending or resolved.
+6. **Listing.** `listed_tables` returns the tables whose last stored record is `listed` (public,
+   open or playing), newest first, at most `limit`.
+7. **Name claims.** `claim_name` gives a name key to one player until a time; it succeeds when
+   the key is unclaimed, expired, or already the same player's (then it extends the claim).
+   `online_players` counts unexpired claims.
+8. **Heartbeats** are kept per table and seat, outside the versioned record: a heartbeat
+   never conflicts with an input.
+9. **Atomic pairing.** `pair` either takes one other player waiting for the same game off the
+   queue and records both as paired at the given table (returning the partner), or queues the
+   caller; a player is in at most one queue once, never paired twice by one call sequence,
+   and never paired with itself. `quick_status` and `cancel_quick` read and leave the queue.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from enum import StrEnum
+
+from server.api_models import PlayerInfo, QuickStatus
+from server.tables import InputEntry, TableRecord
+
+
+class AcceptResult(StrEnum):
+    ACCEPTED = "accepted"
+    CONFLICT = "conflict"
+    DUPLICATE = "duplicate"
+
+
+@dataclass(frozen=True, slots=True)
+class Accepted:
+    """What `accept` did; `entry` is the stored entry for a DUPLICATE."""
+
+    result: AcceptResult
+    entry: InputEntry | None = None
+
+
+class StorageError(RuntimeError):
+    """The database could not be reached or answered nonsense (callers answer 503)."""
+
+
+class Storage(ABC):
+    """The service's persistent state (see the module docstring for the guarantees)."""
+
+    # ----- players ----------------------------------------------------------------------
+    @abstractmethod
+    async def add_player(self, player: PlayerInfo) -> None: ...
+
+    @abstractmethod
+    async def get_player(self, player_id: str) -> PlayerInfo | None: ...
+
+    @abstractmethod
+    async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool: ...
+
+    @abstractmethod
+    async def online_players(self, now: float) -> int: ...
+
+    # ----- tables -----------------------------------------------------------------------
+    @abstractmethod
+    async def create_table(self, record: TableRecord) -> None:
+        """Store a new table; ValueError if the id exists."""
+
+    @abstractmethod
+    async def get_table(self, table_id: str) -> TableRecord | None: ...
+
+    @abstractmethod
+    async def accept(self, record: TableRecord) -> Accepted:
+        """Store `record` (same version as stored, with `pending` set) if the stored table has
+        that version and no pending input and the shot id is new (invariants 2-4)."""
+
+    @abstractmethod
+    async def resolve(self, record: TableRecord, entry: InputEntry) -> bool:
+        """Store `record` (next version, nothing pending) and `entry` (with its outcome) if the
+        stored table is at version `record.version - 1` with `entry` pending."""
+
+    @abstractmethod
+    async def update(self, record: TableRecord) -> bool:
+        """Store `record` if the stored table is at `record.version - 1`, nothing pending."""
+
+    @abstractmethod
+    async def find_input(self, table_id: str, shot_id: str) -> InputEntry | None: ...
+
+    @abstractmethod
+    async def inputs(self, table_id: str) -> list[InputEntry]: ...
+
+    @abstractmethod
+    async def heartbeat(self, table_id: str, seat: int, now: float) -> None:
+        """Record that the player in `seat` is connected (not part of the versioned record)."""
+
+    @abstractmethod
+    async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
+        """The last heartbeat of each seat (None: never)."""
+
+    @abstractmethod
+    async def listed_tables(self, limit: int) -> list[TableRecord]: ...
+
+    # ----- quick match ------------------------------------------------------------------
+    @abstractmethod
+    async def pair(self, game: str, player_id: str, table_id: str) -> str | None:
+        """Pair with a waiting player (returning its id, both now paired at `table_id`) or
+        wait (None). Asking again while waiting for the same game changes nothing."""
+
+    @abstractmethod
+    async def quick_status(self, player_id: str) -> QuickStatus: ...
+
+    @abstractmethod
+    async def cancel_quick(self, player_id: str) -> bool:
+        """Leave the queue; False if the player was not waiting."""
+
+    @abstractmethod
+    async def close(self) -> None:
+        """Release connections."""
+
+
+def parse_quick(value: str | None) -> QuickStatus:
+    """A stored quick-match status (`waiting:<game>` or `paired:<table>`) as the API model."""
+    if value is None:
+        return QuickStatus(status="idle")
+    kind, _, rest = value.partition(":")
+    if kind == "paired":
+        return QuickStatus(status="paired", table=rest)
+    return QuickStatus(status="waiting")
+
+
+def waiting(game: str) -> str:
+    return f"waiting:{game}"
+
+
+def paired(table_id: str) -> str:
+    return f"paired:{table_id}"

@@ -1,0 +1,228 @@
+"""Storage shared by replicas: Redis through redis-py's asyncio client.
+
+Every compare-and-set is one Lua script, so it runs atomically on the Redis server whichever
+replica sends it. Keys, all prefixed `game:`:
+
+- `t:{id}` a hash of the table: `version`, `pending` (shot id or ""), `doc`;
+- `i:{id}` a hash shot id -> input entry; `l:{id}` the resolved shot ids in order;
+- `h:{id}` the heartbeats of its seats; `listed` a sorted set of listed tables by creation;
+- `p:{id}` players; `n:{key}` name claims (expiring) and `online` the claims by expiry;
+- `q:{game}` the quick-match queues and `qs:{player}` each player's quick-match status.
+"""
+
+from __future__ import annotations
+
+import redis.asyncio as aioredis
+from redis.exceptions import RedisError
+
+from server.api_models import PlayerInfo, QuickStatus
+from server.storage import (
+    Accepted,
+    AcceptResult,
+    Storage,
+    StorageError,
+    paired,
+    parse_quick,
+    waiting,
+)
+from server.tables import InputEntry, TableRecord
+
+P = "game:"
+
+# KEYS: table, listed. ARGV: version, doc, table id, listed (0/1), created.
+_CREATE = """
+if redis.call('EXISTS', KEYS[1]) == 1 then return 0 end
+redis.call('HSET', KEYS[1], 'version', ARGV[1], 'pending', '', 'doc', ARGV[2])
+if ARGV[4] == '1' then redis.call('ZADD', KEYS[2], ARGV[5], ARGV[3]) end
+return 1
+"""
+
+# KEYS: table, inputs. ARGV: version, shot id, doc, entry.
+_ACCEPT = """
+local old = redis.call('HGET', KEYS[2], ARGV[2])
+if old then return {2, old} end
+local stamp = redis.call('HMGET', KEYS[1], 'version', 'pending')
+if stamp[1] ~= ARGV[1] or stamp[2] ~= '' then return {1} end
+redis.call('HSET', KEYS[2], ARGV[2], ARGV[4])
+redis.call('HSET', KEYS[1], 'pending', ARGV[2], 'doc', ARGV[3])
+return {0}
+"""
+
+# KEYS: table, inputs, log, listed. ARGV: expected version, expected pending, new version,
+# doc, table id, listed (0/1), created, shot id to log ("" for none), entry.
+_SWAP = """
+local stamp = redis.call('HMGET', KEYS[1], 'version', 'pending')
+if stamp[1] ~= ARGV[1] or stamp[2] ~= ARGV[2] then return 0 end
+redis.call('HSET', KEYS[1], 'version', ARGV[3], 'pending', '', 'doc', ARGV[4])
+if ARGV[8] ~= '' then
+  redis.call('HSET', KEYS[2], ARGV[8], ARGV[9])
+  redis.call('RPUSH', KEYS[3], ARGV[8])
+end
+if ARGV[6] == '1' then redis.call('ZADD', KEYS[4], ARGV[7], ARGV[5])
+else redis.call('ZREM', KEYS[4], ARGV[5]) end
+return 1
+"""
+
+# KEYS: name key, online set. ARGV: player, until (s), now (s), ttl (ms).
+_CLAIM = """
+local holder = redis.call('GET', KEYS[1])
+if holder and holder ~= ARGV[1] then return 0 end
+redis.call('SET', KEYS[1], ARGV[1], 'PX', ARGV[4])
+redis.call('ZADD', KEYS[2], ARGV[2], KEYS[1])
+redis.call('ZREMRANGEBYSCORE', KEYS[2], '-inf', '(' .. ARGV[3])
+return 1
+"""
+
+# KEYS: queue, caller's status. ARGV: player, waiting status, paired status, status prefix.
+_PAIR = """
+local status = redis.call('GET', KEYS[2])
+if status == ARGV[2] then return false end
+if status and string.sub(status, 1, 8) == 'waiting:' then
+  redis.call('LREM', 'game:q:' .. string.sub(status, 9), 0, ARGV[1])
+end
+while true do
+  local partner = redis.call('LPOP', KEYS[1])
+  if not partner then break end
+  if partner ~= ARGV[1] and redis.call('GET', ARGV[4] .. partner) == ARGV[2] then
+    redis.call('SET', ARGV[4] .. partner, ARGV[3])
+    redis.call('SET', KEYS[2], ARGV[3])
+    return partner
+  end
+end
+redis.call('RPUSH', KEYS[1], ARGV[1])
+redis.call('SET', KEYS[2], ARGV[2])
+return false
+"""
+
+# KEYS: caller's status. ARGV: player.
+_CANCEL = """
+local status = redis.call('GET', KEYS[1])
+if not status or string.sub(status, 1, 8) ~= 'waiting:' then return 0 end
+redis.call('LREM', 'game:q:' .. string.sub(status, 9), 0, ARGV[1])
+redis.call('DEL', KEYS[1])
+return 1
+"""
+
+
+class RedisStorage(Storage):
+    def __init__(self, url: str) -> None:
+        self._redis = aioredis.Redis.from_url(url, decode_responses=True)
+        self._create = self._redis.register_script(_CREATE)
+        self._accept = self._redis.register_script(_ACCEPT)
+        self._swap_script = self._redis.register_script(_SWAP)
+        self._claim = self._redis.register_script(_CLAIM)
+        self._pair = self._redis.register_script(_PAIR)
+        self._cancel = self._redis.register_script(_CANCEL)
+
+    @classmethod
+    async def open(cls, url: str) -> RedisStorage:
+        storage = cls(url)
+        try:
+            await storage._redis.ping()
+        except RedisError as error:
+            await storage.close()
+            raise StorageError(f"Redis at {url} does not answer: {error}") from error
+        return storage
+
+    async def close(self) -> None:
+        await self._redis.aclose()
+
+    # ----- players ----------------------------------------------------------------------
+    async def add_player(self, player: PlayerInfo) -> None:
+        await self._redis.set(f"{P}p:{player.id}", player.model_dump_json())
+
+    async def get_player(self, player_id: str) -> PlayerInfo | None:
+        doc = await self._redis.get(f"{P}p:{player_id}")
+        return PlayerInfo.model_validate_json(doc) if doc else None
+
+    async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
+        ttl_ms = max(1, int((until - now) * 1000))
+        keys = [f"{P}n:{key}", f"{P}online"]
+        return bool(await self._claim(keys=keys, args=[player_id, until, now, ttl_ms]))
+
+    async def online_players(self, now: float) -> int:
+        return await self._redis.zcount(f"{P}online", now, "+inf")
+
+    # ----- tables -----------------------------------------------------------------------
+    def _keys(self, table_id: str) -> list[str]:
+        return [f"{P}t:{table_id}", f"{P}i:{table_id}", f"{P}l:{table_id}", f"{P}listed"]
+
+    async def create_table(self, record: TableRecord) -> None:
+        keys = [f"{P}t:{record.id}", f"{P}listed"]
+        args = [record.version, record.model_dump_json(), record.id, int(record.listed)]
+        if not await self._create(keys=keys, args=[*args, record.created]):
+            raise ValueError(f"table {record.id} exists")
+
+    async def get_table(self, table_id: str) -> TableRecord | None:
+        doc = await self._redis.hget(f"{P}t:{table_id}", "doc")
+        return TableRecord.model_validate_json(doc) if doc else None
+
+    async def accept(self, record: TableRecord) -> Accepted:
+        entry = record.pending
+        if entry is None:
+            raise ValueError("accept needs a record with its pending input")
+        args = [record.version, entry.shot_id, record.model_dump_json(), entry.model_dump_json()]
+        answer = await self._accept(keys=self._keys(record.id)[:2], args=args)
+        if answer[0] == 2:
+            return Accepted(AcceptResult.DUPLICATE, InputEntry.model_validate_json(answer[1]))
+        return Accepted(AcceptResult.ACCEPTED if answer[0] == 0 else AcceptResult.CONFLICT)
+
+    async def _swap(self, record: TableRecord, pending: str, entry: InputEntry | None) -> bool:
+        args = [
+            record.version - 1,
+            pending,
+            record.version,
+            record.model_dump_json(),
+            record.id,
+            int(record.listed),
+            record.created,
+            entry.shot_id if entry else "",
+            entry.model_dump_json() if entry else "",
+        ]
+        return bool(await self._swap_script(keys=self._keys(record.id), args=args))
+
+    async def resolve(self, record: TableRecord, entry: InputEntry) -> bool:
+        return await self._swap(record, entry.shot_id, entry)
+
+    async def update(self, record: TableRecord) -> bool:
+        return await self._swap(record, "", None)
+
+    async def find_input(self, table_id: str, shot_id: str) -> InputEntry | None:
+        doc = await self._redis.hget(f"{P}i:{table_id}", shot_id)
+        return InputEntry.model_validate_json(doc) if doc else None
+
+    async def inputs(self, table_id: str) -> list[InputEntry]:
+        shot_ids = await self._redis.lrange(f"{P}l:{table_id}", 0, -1)
+        if not shot_ids:
+            return []
+        docs = await self._redis.hmget(f"{P}i:{table_id}", shot_ids)
+        return [InputEntry.model_validate_json(doc) for doc in docs]
+
+    async def heartbeat(self, table_id: str, seat: int, now: float) -> None:
+        await self._redis.hset(f"{P}h:{table_id}", str(seat), repr(now))
+
+    async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
+        seen = await self._redis.hmget(f"{P}h:{table_id}", ["0", "1"])
+        return tuple(None if s is None else float(s) for s in seen)  # type: ignore[return-value]
+
+    async def listed_tables(self, limit: int) -> list[TableRecord]:
+        ids = await self._redis.zrevrange(f"{P}listed", 0, limit - 1)
+        if not ids:
+            return []
+        async with self._redis.pipeline(transaction=False) as pipe:
+            for table_id in ids:
+                pipe.hget(f"{P}t:{table_id}", "doc")
+            docs = await pipe.execute()
+        return [TableRecord.model_validate_json(doc) for doc in docs if doc]
+
+    # ----- quick match ------------------------------------------------------------------
+    async def pair(self, game: str, player_id: str, table_id: str) -> str | None:
+        keys = [f"{P}q:{game}", f"{P}qs:{player_id}"]
+        args = [player_id, waiting(game), paired(table_id), f"{P}qs:"]
+        return await self._pair(keys=keys, args=args)
+
+    async def quick_status(self, player_id: str) -> QuickStatus:
+        return parse_quick(await self._redis.get(f"{P}qs:{player_id}"))
+
+    async def cancel_quick(self, player_id: str) -> bool:
+        return bool(await self._cancel(keys=[f"{P}qs:{player_id}"], args=[player_id]))

@@ -1,0 +1,256 @@
+"""The embedded storage: one SQLite file through aiosqlite (the default of `billiards serve`).
+
+One connection per process, every multi-statement operation in one `BEGIN IMMEDIATE`
+transaction under an asyncio lock (aiosqlite runs statements on one thread; the lock keeps two
+coroutines' statements out of each other's transactions). The journal is WAL with
+`synchronous=NORMAL`: a committed write survives the process being killed (the server restart
+the tests do); surviving power loss too would need `synchronous=FULL`. One process owns the file.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import itertools
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from pathlib import Path
+
+import aiosqlite
+
+from server.api_models import PlayerInfo, QuickStatus
+from server.storage import (
+    Accepted,
+    AcceptResult,
+    Storage,
+    paired,
+    parse_quick,
+    waiting,
+)
+from server.tables import InputEntry, TableRecord
+
+SCHEMA = """
+CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS names (key TEXT PRIMARY KEY, player TEXT NOT NULL, until REAL NOT NULL);
+CREATE TABLE IF NOT EXISTS tables (
+    id TEXT PRIMARY KEY, version INTEGER NOT NULL, pending TEXT NOT NULL,
+    listed INTEGER NOT NULL, created REAL NOT NULL, doc TEXT NOT NULL);
+CREATE INDEX IF NOT EXISTS tables_listed ON tables (listed, created);
+CREATE TABLE IF NOT EXISTS inputs (
+    table_id TEXT NOT NULL, shot_id TEXT NOT NULL, seq INTEGER, doc TEXT NOT NULL,
+    PRIMARY KEY (table_id, shot_id));
+CREATE TABLE IF NOT EXISTS heartbeats (
+    table_id TEXT NOT NULL, seat INTEGER NOT NULL, seen REAL NOT NULL,
+    PRIMARY KEY (table_id, seat));
+CREATE TABLE IF NOT EXISTS quick (
+    player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL);
+"""
+
+
+class SqliteStorage(Storage):
+    def __init__(self, db: aiosqlite.Connection) -> None:
+        self._db = db
+        self._lock = asyncio.Lock()
+        self._queued = itertools.count()
+
+    @classmethod
+    async def open(cls, path: str | Path) -> SqliteStorage:
+        db = await aiosqlite.connect(str(path), isolation_level=None)
+        await db.execute("PRAGMA journal_mode=WAL")
+        await db.execute("PRAGMA synchronous=NORMAL")
+        await db.executescript(SCHEMA)
+        storage = cls(db)
+        async with db.execute("SELECT COALESCE(MAX(queued), 0) + 1 FROM quick") as cursor:
+            (start,) = await cursor.fetchone()
+        storage._queued = itertools.count(start)
+        return storage
+
+    async def close(self) -> None:
+        await self._db.close()
+
+    @asynccontextmanager
+    async def _transaction(self) -> AsyncIterator[aiosqlite.Connection]:
+        async with self._lock:
+            await self._db.execute("BEGIN IMMEDIATE")
+            try:
+                yield self._db
+            except BaseException:
+                await self._db.execute("ROLLBACK")
+                raise
+            await self._db.execute("COMMIT")
+
+    async def _one(self, sql: str, *args: object) -> tuple | None:
+        async with self._lock, self._db.execute(sql, args) as cursor:
+            return await cursor.fetchone()
+
+    # ----- players ----------------------------------------------------------------------
+    async def add_player(self, player: PlayerInfo) -> None:
+        async with self._transaction() as db:
+            doc = player.model_dump_json()
+            await db.execute("INSERT OR REPLACE INTO players VALUES (?, ?)", (player.id, doc))
+
+    async def get_player(self, player_id: str) -> PlayerInfo | None:
+        row = await self._one("SELECT doc FROM players WHERE id = ?", player_id)
+        return PlayerInfo.model_validate_json(row[0]) if row else None
+
+    async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
+        async with self._transaction() as db:
+            async with db.execute("SELECT player, until FROM names WHERE key = ?", (key,)) as c:
+                row = await c.fetchone()
+            if row is not None and row[0] != player_id and row[1] >= now:
+                return False
+            claim = (key, player_id, until)
+            await db.execute("INSERT OR REPLACE INTO names VALUES (?, ?, ?)", claim)
+            return True
+
+    async def online_players(self, now: float) -> int:
+        row = await self._one("SELECT COUNT(*) FROM names WHERE until >= ?", now)
+        return row[0] if row else 0
+
+    # ----- tables -----------------------------------------------------------------------
+    async def create_table(self, record: TableRecord) -> None:
+        async with self._transaction() as db:
+            try:
+                await db.execute(
+                    "INSERT INTO tables VALUES (?, ?, '', ?, ?, ?)",
+                    (
+                        record.id,
+                        record.version,
+                        int(record.listed),
+                        record.created,
+                        record.model_dump_json(),
+                    ),
+                )
+            except aiosqlite.IntegrityError:
+                raise ValueError(f"table {record.id} exists") from None
+
+    async def get_table(self, table_id: str) -> TableRecord | None:
+        row = await self._one("SELECT doc FROM tables WHERE id = ?", table_id)
+        return TableRecord.model_validate_json(row[0]) if row else None
+
+    async def _stamp(self, db: aiosqlite.Connection, table_id: str) -> tuple[int, str] | None:
+        async with db.execute("SELECT version, pending FROM tables WHERE id = ?", (table_id,)) as c:
+            return await c.fetchone()
+
+    async def _write(self, db: aiosqlite.Connection, record: TableRecord, pending: str) -> None:
+        await db.execute(
+            "UPDATE tables SET version = ?, pending = ?, listed = ?, doc = ? WHERE id = ?",
+            (record.version, pending, int(record.listed), record.model_dump_json(), record.id),
+        )
+
+    async def accept(self, record: TableRecord) -> Accepted:
+        entry = record.pending
+        if entry is None:
+            raise ValueError("accept needs a record with its pending input")
+        async with self._transaction() as db:
+            async with db.execute(
+                "SELECT doc FROM inputs WHERE table_id = ? AND shot_id = ?",
+                (record.id, entry.shot_id),
+            ) as cursor:
+                row = await cursor.fetchone()
+            if row is not None:
+                return Accepted(AcceptResult.DUPLICATE, InputEntry.model_validate_json(row[0]))
+            if await self._stamp(db, record.id) != (record.version, ""):
+                return Accepted(AcceptResult.CONFLICT)
+            await db.execute(
+                "INSERT INTO inputs VALUES (?, ?, NULL, ?)",
+                (record.id, entry.shot_id, entry.model_dump_json()),
+            )
+            await self._write(db, record, entry.shot_id)
+            return Accepted(AcceptResult.ACCEPTED)
+
+    async def resolve(self, record: TableRecord, entry: InputEntry) -> bool:
+        async with self._transaction() as db:
+            if await self._stamp(db, record.id) != (record.version - 1, entry.shot_id):
+                return False
+            await db.execute(
+                "UPDATE inputs SET seq = ?, doc = ? WHERE table_id = ? AND shot_id = ?",
+                (record.version, entry.model_dump_json(), record.id, entry.shot_id),
+            )
+            await self._write(db, record, "")
+            return True
+
+    async def update(self, record: TableRecord) -> bool:
+        async with self._transaction() as db:
+            if await self._stamp(db, record.id) != (record.version - 1, ""):
+                return False
+            await self._write(db, record, "")
+            return True
+
+    async def find_input(self, table_id: str, shot_id: str) -> InputEntry | None:
+        row = await self._one(
+            "SELECT doc FROM inputs WHERE table_id = ? AND shot_id = ?", table_id, shot_id
+        )
+        return InputEntry.model_validate_json(row[0]) if row else None
+
+    async def inputs(self, table_id: str) -> list[InputEntry]:
+        async with (
+            self._lock,
+            self._db.execute(
+                "SELECT doc FROM inputs WHERE table_id = ? AND seq IS NOT NULL ORDER BY seq",
+                (table_id,),
+            ) as cursor,
+        ):
+            rows = await cursor.fetchall()
+        return [InputEntry.model_validate_json(row[0]) for row in rows]
+
+    async def heartbeat(self, table_id: str, seat: int, now: float) -> None:
+        async with self._transaction() as db:
+            await db.execute(
+                "INSERT OR REPLACE INTO heartbeats VALUES (?, ?, ?)", (table_id, seat, now)
+            )
+
+    async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
+        async with (
+            self._lock,
+            self._db.execute(
+                "SELECT seat, seen FROM heartbeats WHERE table_id = ?", (table_id,)
+            ) as cursor,
+        ):
+            seen = dict(await cursor.fetchall())
+        return seen.get(0), seen.get(1)
+
+    async def listed_tables(self, limit: int) -> list[TableRecord]:
+        async with (
+            self._lock,
+            self._db.execute(
+                "SELECT doc FROM tables WHERE listed = 1 ORDER BY created DESC LIMIT ?", (limit,)
+            ) as cursor,
+        ):
+            rows = await cursor.fetchall()
+        return [TableRecord.model_validate_json(row[0]) for row in rows]
+
+    # ----- quick match ------------------------------------------------------------------
+    async def pair(self, game: str, player_id: str, table_id: str) -> str | None:
+        async with self._transaction() as db:
+            async with db.execute("SELECT status FROM quick WHERE player = ?", (player_id,)) as c:
+                row = await c.fetchone()
+            if row is not None and row[0] == waiting(game):
+                return None
+            async with db.execute(
+                "SELECT player FROM quick WHERE status = ? AND player != ? ORDER BY queued LIMIT 1",
+                (waiting(game), player_id),
+            ) as cursor:
+                partner = await cursor.fetchone()
+            if partner is None:
+                await db.execute(
+                    "INSERT OR REPLACE INTO quick VALUES (?, ?, ?)",
+                    (player_id, waiting(game), next(self._queued)),
+                )
+                return None
+            for who in (player_id, partner[0]):
+                await db.execute(
+                    "INSERT OR REPLACE INTO quick VALUES (?, ?, ?)",
+                    (who, paired(table_id), next(self._queued)),
+                )
+            return partner[0]
+
+    async def quick_status(self, player_id: str) -> QuickStatus:
+        row = await self._one("SELECT status FROM quick WHERE player = ?", player_id)
+        return parse_quick(row[0] if row else None)
+
+    async def cancel_quick(self, player_id: str) -> bool:
+        async with self._transaction() as db:
+            cursor = await db.execute(
+                "DELETE FROM quick WHERE player = ? AND status LIKE 'waiting:%'", (player_id,)
+            )
+            return cursor.rowcount > 0

@@ -1,0 +1,127 @@
+"""Matches over real sockets: intents over HTTP, outcomes on the relay, the referee's checks."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from aiohttp.test_utils import TestClient
+
+from rules.pickers import pick
+from rules.state import State
+from tests.service.conftest import Player, register, watch
+
+
+def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
+    """The shot pickers' input for a published state (a client choosing its shot)."""
+    return pick(State.model_validate(view_or_outcome["state"])).model_dump(mode="json")
+
+
+async def seated_match(server: TestClient) -> tuple[Player, Player, dict[str, Any]]:
+    ada, bob = await register(server, "Ada"), await register(server, "Bob")
+    table = await ada.create("nineball")
+    _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+    return ada, bob, view
+
+
+async def test_a_shot_is_acknowledged_then_published_once_with_its_trajectory(
+    server: TestClient,
+) -> None:
+    ada, _, view = await seated_match(server)
+    assert view["status"] == "playing" and view["next"]["seat"] == 0
+    players, spectator = await watch(server, view["channel"]), await watch(server, view["channel"])
+    status, ack = await ada.shoot(view["id"], view["version"], picked(view), "break-shot-1")
+    assert (status, ack) == (202, {"status": "accepted", "version": view["version"] + 1})
+    seen = [await w.next_kind("outcome") for w in (players, spectator)]
+    assert seen[0] == seen[1]  # spectators see exactly what the players see
+    outcome = seen[0]
+    assert outcome["version"] == view["version"] + 1 and outcome["seat"] == 0
+    assert outcome["decision"]["player"] == 0
+    cue = outcome["trajectory"]["balls"]["cue"]
+    assert all(len(segment) == 14 for segment in cue)
+    assert "sliding" in [segment[1] for segment in cue]
+    assert cue[0][2:4] == view["state"]["balls"]["cue"]  # it starts where the cue ball was
+    assert outcome["next"]["seat"] == outcome["state"]["turn"]
+    fresh = await (await server.get(f"/api/tables/{view['id']}")).json()
+    assert fresh["version"] == outcome["version"] and fresh["last_outcome"] == outcome
+
+    status, duplicate = await ada.shoot(view["id"], view["version"], picked(view), "break-shot-1")
+    assert status == 200 and duplicate["status"] == "duplicate"
+    assert duplicate["outcome"] == outcome  # answered with its first outcome, not replayed
+    replayed = await (await server.get(f"/api/tables/{view['id']}")).json()
+    assert replayed["version"] == fresh["version"]
+
+
+async def test_out_of_turn_stale_and_foreign_intents_are_refused_and_change_nothing(
+    server: TestClient,
+) -> None:
+    ada, bob, view = await seated_match(server)
+    table, version = view["id"], view["version"]
+    status, body = await bob.shoot(table, version, picked(view))
+    assert (status, body["code"]) == (409, "not_your_turn")
+    status, body = await ada.shoot(table, version - 1, picked(view))
+    assert (status, body["code"]) == (409, "stale_version")
+    eve = await register(server, "Eve")
+    status, body = await eve.shoot(table, version, picked(view))
+    assert (status, body["code"]) == (403, "forbidden")
+    status, body = await ada.shoot(table, version, {"option": "play_on"})
+    assert (status, body["code"]) == (409, "wrong_phase")
+    wrong_ball = picked(view)
+    wrong_ball["strike"]["ball"] = "9"
+    status, body = await ada.shoot(table, version, wrong_ball)
+    assert (status, body["code"]) == (422, "illegal_input")
+    assert view["next"]["ball_in_hand"] == "kitchen"
+    placed = picked(view) | {"place": [0.5, 2.0]}
+    status, body = await ada.shoot(table, version, placed)
+    assert (status, body["code"]) == (422, "illegal_input")  # beyond the head string
+    after = await (await server.get(f"/api/tables/{table}")).json()
+    assert after["version"] == version and after["state"] == view["state"]
+
+
+async def test_bad_bodies_get_json_errors_with_codes(server: TestClient) -> None:
+    ada, _, view = await seated_match(server)
+    path = f"/api/tables/{view['id']}/intents"
+    shot = {"version": view["version"], "shot_id": "x" * 10, "input": picked(view)}
+    cases = [
+        (json.dumps(shot).replace('"speed": ', '"speed": NaN, "x": '), 400, "bad_request"),
+        (json.dumps({**shot, "input": {"strike": {"ball": "cue", "speed": 99, "heading": 0}}}),
+         400, "bad_request"),
+        (json.dumps({**shot, "shot_id": "short"}), 400, "bad_request"),
+        (json.dumps({**shot, "extra": 1}), 400, "bad_request"),
+        ("[" * 100_000 + "]" * 100_000, 413, "body_too_large"),
+        ("[" * 5000 + "]" * 5000, 400, "bad_request"),
+        ("{not json", 400, "bad_request"),
+    ]  # fmt: skip
+    for body, status, code in cases:
+        response = await server.post(
+            path, data=body, headers={**ada.auth, "Content-Type": "application/json"}
+        )
+        assert (response.status, (await response.json())["code"]) == (status, code), body[:80]
+    response = await server.post(path, data="x", headers={**ada.auth, "Content-Type": "text/plain"})
+    assert response.status == 415
+    forged = ada.token[:-2] + ("AA" if not ada.token.endswith("AA") else "BB")
+    response = await server.post(path, json=shot, headers={"Authorization": f"Bearer {forged}"})
+    assert (response.status, (await response.json())["code"]) == (401, "unauthorized")
+    assert (await (await server.get(f"/api/tables/{view['id']}")).json())["version"] == view[
+        "version"
+    ]
+
+
+async def test_a_client_cannot_publish_on_a_table_channel(server: TestClient) -> None:
+    ada, _, view = await seated_match(server)
+    forged = {"kind": "outcome", "version": view["version"] + 1}
+    response = await server.post(f"/pub/{view['channel']}", json=forged, headers=ada.auth)
+    assert response.status == 403
+
+
+async def test_a_practice_table_plays_every_shot_from_seat_zero(server: TestClient) -> None:
+    ada = await register(server, "Ada")
+    view = await ada.create("nineball", mode="practice")
+    watcher = await watch(server, view["channel"])
+    for _ in range(4):
+        status, ack = await ada.shoot(view["id"], view["version"], picked(view))
+        assert status == 202, ack
+        outcome = await watcher.next_kind("outcome")
+        assert outcome["version"] == ack["version"] and outcome["seat"] == 0
+        view = await (await server.get(f"/api/tables/{view['id']}")).json()
+        assert view["next"]["seat"] == 0
