@@ -151,3 +151,62 @@ def screenshot(page: Page, name: str) -> Path:
     path = artefact(name)
     page.screenshot(path=str(path))
     return path
+
+
+_names = iter(range(1, 10**6))
+
+
+def unique_name(prefix: str) -> str:
+    """A display name nobody online has (names are unique among players online)."""
+    return f"{prefix}{os.getpid() % 1000}x{next(_names)}"
+
+
+def enter_name(page: Page, name: str) -> None:
+    """Answer the page's name form (shown to a visitor without an identity)."""
+    page.fill(".overlay input", name)
+    page.click(".overlay button[type=submit]")
+    page.wait_for_selector(".overlay", state="detached")
+
+
+def wait_shown(page: Page, count: int = 1, timeout: float = 60_000) -> None:
+    """Until the play page has shown `count` table states (views or outcomes, animated)."""
+    page.wait_for_function("(n) => (window.billiards?.shown ?? 0) >= n", arg=count, timeout=timeout)
+
+
+def drawn_balls(page: Page) -> dict[str, list[float]]:
+    """Where the page draws each ball (table coordinates)."""
+    return page.evaluate("window.billiards.balls()")
+
+
+def strike_with_keys(page: Page, hold_ms: int = 500, left: int = 0) -> None:
+    """Aim with the arrow keys, then hold Space for the power and let go."""
+    page.locator("#table").focus()
+    for _ in range(left):
+        page.keyboard.press("ArrowLeft")
+    page.keyboard.down(" ")
+    page.wait_for_timeout(hold_ms)
+    page.keyboard.up(" ")
+
+
+def canvas_colours(page: Page) -> dict[str, float]:
+    """Fractions of the table canvas's pixels that are mostly blue, mostly green, and blank
+    (the page's background): read back from the WebGL canvas."""
+    return page.evaluate(
+        """() => {
+            const gl = document.getElementById('table');
+            const c = document.createElement('canvas');
+            c.width = 200; c.height = Math.round(200 * gl.height / gl.width);
+            const ctx = c.getContext('2d');
+            ctx.drawImage(gl, 0, 0, c.width, c.height);
+            const d = ctx.getImageData(0, 0, c.width, c.height).data;
+            let blue = 0, green = 0, blank = 0;
+            for (let i = 0; i < d.length; i += 4) {
+                const [r, g, b] = [d[i], d[i + 1], d[i + 2]];
+                if (b > r + 40 && b > g + 15) blue++;
+                else if (g > r + 30 && g > b + 15) green++;
+                if (r < 30 && g < 30 && b < 35) blank++;
+            }
+            const n = d.length / 4;
+            return {blue: blue / n, green: green / n, blank: blank / n};
+        }"""
+    )

@@ -76,7 +76,7 @@ function showTables(tables, online) {
   if (!tables.length) body.append(Object.assign(el("tr"), { innerHTML: '<td class="muted">No open tables right now.</td>' }));
   for (const t of tables) {
     const row = el("tr");
-    const names = t.seats.map((s) => s?.name ?? "(free seat)").join(" vs ");
+    const names = t.mode === "practice" ? `${t.seats[0]?.name ?? ""} (practice)` : t.seats.map((s) => s?.name ?? "(free seat)").join(" vs ");
     row.append(el("td", GAME_NAMES[t.game] ?? t.game), el("td", names), el("td", t.status === "open" ? "open" : `in progress, ${t.spectators} watching`));
     const cell = el("td");
     const link = el("a", t.status === "open" ? "Join" : "Watch", "button");

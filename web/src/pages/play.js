@@ -25,7 +25,8 @@ const $ = (id) => document.getElementById(id);
 const geometry = fetch("/web/tables").then((r) => r.json());
 
 /** Diagnostics the browser tests read: per animation, its frame intervals and the main thread's
- *  time per frame (ms); and how many table states have been shown. */
+ *  time per frame (ms); how many table states have been shown; balls(): where each ball is
+ *  drawn, in table coordinates. */
 const diagnostics = { animations: [], shown: 0 };
 window.billiards = diagnostics;
 
@@ -90,6 +91,14 @@ class PlayPage {
     const table = (await geometry)[view.game];
     document.title = `billiards: ${view.game}`;
     this.view3d = new TableView($("table"), table, view.game);
+    diagnostics.balls = () => {
+      const out = {};
+      for (const id of this.view3d.balls.keys()) {
+        const p = this.view3d.ballAt(id);
+        if (p) out[id] = p;
+      }
+      return out;
+    };
     this.controls = new Controls(
       this.view3d,
       {
@@ -231,12 +240,16 @@ class PlayPage {
     this.controls.show();
   }
 
+  /** Aim at the nearest ball the shooter may want: in snooker a red when reds are on (so the
+   *  break aims up the table at the pack), else the nearest ball. */
   aimAtNearest(cue) {
     const from = this.view3d.ballAt(cue);
     if (!from) return;
+    const { state } = this.shown;
+    const reds = state.on === "red" && this.shown.game === "snooker";
     let best = null;
-    for (const [id, p] of Object.entries(this.shown.state.balls)) {
-      if (id === cue) continue;
+    for (const [id, p] of Object.entries(state.balls)) {
+      if (id === cue || (reds && !id.startsWith("red"))) continue;
       const d = Math.hypot(p[0] - from[0], p[1] - from[1]);
       if (!best || d < best.d) best = { d, p };
     }
@@ -374,8 +387,7 @@ async function main() {
     showWho(me);
   }
   const page = new PlayPage(tableId, me);
-  const view = await page.session.start();
-  if (page.mySeat(view) === null && view.status !== "open") post(`/api/tables/${tableId}/watch`).catch(() => {});
+  await page.session.start();
 }
 
 main().catch((e) => {

@@ -73,10 +73,13 @@ function pocketCups(table, group) {
 function cushions(table, colours, group) {
   const material = new THREE.MeshStandardMaterial({ color: colours.cushion, roughness: 0.9 });
   const height = table.cushion_height + 0.008;
+  // Without pockets the rails meet in the corners: their backs are mitred to close them.
+  const mitre = table.pockets.length ? 0 : CUSHION_WIDTH;
   for (const c of table.cushions) {
     const [nx, ny] = c.normal;
-    const back = (p) => [p[0] - nx * CUSHION_WIDTH, p[1] - ny * CUSHION_WIDTH];
-    const shape = shapeOf([c.p1, c.p2, back(c.p2), back(c.p1)]);
+    const t = [(c.p2[0] - c.p1[0]) / Math.hypot(c.p2[0] - c.p1[0], c.p2[1] - c.p1[1]), (c.p2[1] - c.p1[1]) / Math.hypot(c.p2[0] - c.p1[0], c.p2[1] - c.p1[1])];
+    const back = (p, along) => [p[0] - nx * CUSHION_WIDTH + t[0] * along, p[1] - ny * CUSHION_WIDTH + t[1] * along];
+    const shape = shapeOf([c.p1, c.p2, back(c.p2, mitre), back(c.p1, -mitre)]);
     const geometry = new THREE.ExtrudeGeometry(shape, { depth: height, bevelEnabled: false });
     group.add(layFlat(geometry, material, table));
   }
