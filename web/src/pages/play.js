@@ -6,7 +6,7 @@ import { ensurePlayer, showWho } from "../net/identity.js";
 import { Controls } from "../play/controls.js";
 import { TableSession } from "../play/session.js";
 import { readExtras, showExtras } from "../play/extras.js";
-import { decisionWords, nextPoolRun, nextWords, optionWords, scoreWords, seatName } from "../play/words.js";
+import { decisionWords, nextPoolRun, nextWords, optionWords, playerName, scoreWords, seatName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableView } from "../three/view.js";
 
@@ -25,8 +25,8 @@ const $ = (id) => document.getElementById(id);
 const geometry = fetch("/web/tables").then((r) => r.json());
 
 /** Diagnostics the browser tests read: per animation, its frame intervals and the main thread's
- *  time per frame (ms); how many table states have been shown; balls(): where each ball is
- *  drawn, in table coordinates. */
+ *  time per frame (ms); how many table states have been shown, and the version of the last;
+ *  balls(): where each ball is drawn, in table coordinates. */
 const diagnostics = { animations: [], shown: 0 };
 window.billiards = diagnostics;
 
@@ -127,6 +127,7 @@ class PlayPage {
     if (view.last_outcome?.decision && !this.lastWords) this.lastWords = decisionWords(view, view.last_outcome.decision);
     this.refresh();
     diagnostics.shown += 1;
+    diagnostics.version = view.version;
   }
 
   showOutcome(message) {
@@ -149,6 +150,7 @@ class PlayPage {
       }
       this.refresh();
       diagnostics.shown += 1;
+      diagnostics.version = message.version;
     };
     if (!message.trajectory) {
       after();
@@ -164,6 +166,7 @@ class PlayPage {
             duration: message.trajectory.duration,
             intervals: animation.frameTimes,
             draws: this.view3d.drawTimes,
+            scale: this.view3d.scale,
           });
           after();
           resolve();
@@ -192,17 +195,19 @@ class PlayPage {
     }
     this.controls.setEnabled(shooting ? v.next.cue_ball : null, { placing: shooting ? v.next.ball_in_hand : null });
     this.choices(toAct && v.next.kinds.includes("choice") ? v.next.options : []);
+    // Spectators watch: no cue, no stroke controls.
+    for (const id of ["controls", "keys"]) $(id).hidden = mine === null;
     this.actions(v, mine);
   }
 
   scoreboard(v) {
     const box = $("players");
     box.replaceChildren();
-    const seats = v.mode === "practice" ? [0] : [0, 1];
-    for (const seat of seats) {
+    for (const seat of [0, 1]) {
       const name = document.createElement("span");
-      name.className = `name${v.next?.seat === seat && v.status === "playing" ? " to-act" : ""}`;
-      name.textContent = seatName(v, seat) + (v.presence?.[seat] === false ? " (disconnected)" : "");
+      const acting = v.status === "playing" && (v.mode === "practice" ? v.state.turn : v.next?.seat) === seat;
+      name.className = `name${acting ? " to-act" : ""}`;
+      name.textContent = playerName(v, seat) + (v.presence?.[seat] === false && v.seats[seat] ? " (disconnected)" : "");
       const score = document.createElement("span");
       score.className = "score";
       score.textContent = String(v.state.scores[seat]);
@@ -344,7 +349,10 @@ class PlayPage {
   chatButtons() {
     $("chat").replaceChildren(
       ...Object.entries(QUICK_MESSAGES).map(([code, words]) =>
-        button(words, () => this.session.action("messages", { message: code }).catch((e) => this.banner(e.message, 2000))),
+        button(words, async () => {
+          this.me ??= await ensurePlayer();
+          this.session.action("messages", { message: code }).catch((e) => this.banner(e.message, 2000));
+        }),
       ),
     );
   }

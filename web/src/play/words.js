@@ -31,12 +31,18 @@ function list(items) {
 
 export function seatName(view, seat) {
   if (seat == null) return "";
-  return view.seats[seat]?.name ?? (view.mode === "practice" ? "You" : `Player ${seat + 1}`);
+  return view.seats[seat]?.name ?? `Player ${seat + 1}`;
+}
+
+/** The name of the referee's player 0 or 1 (its decisions and scores count by player): the
+ *  seat's in a match; on a practice table, where seat 0 plays both sides, "P1" or "P2". */
+export function playerName(view, player) {
+  return view.mode === "practice" ? `P${player + 1}` : seatName(view, player);
 }
 
 /** One decision as sentences: who shot, what fell, fouls, notes, the end of a rack or match. */
 export function decisionWords(view, d) {
-  const who = seatName(view, d.player);
+  const who = view.mode === "practice" ? seatName(view, 0) : seatName(view, d.player);
   const out = [];
   const potted = d.pocketed.map(ballWords);
   out.push(potted.length ? `${who} potted ${list(potted)}.` : `${who} potted nothing.`);
@@ -44,9 +50,9 @@ export function decisionWords(view, d) {
   for (const note of d.notes) out.push(`${note.charAt(0).toUpperCase()}${note.slice(1)}.`);
   const points = d.points.reduce((a, b) => a + b, 0);
   if (points && view.game !== "nineball" && view.game !== "eightball") {
-    out.push(d.points.map((p, seat) => (p ? `${seatName(view, seat)} +${p}` : null)).filter(Boolean).join(", ") + ".");
+    out.push(d.points.map((p, seat) => (p ? `${playerName(view, seat)} +${p}` : null)).filter(Boolean).join(", ") + ".");
   }
-  if (d.over && d.winner != null) out.push(`${seatName(view, d.winner)} wins the ${view.game === "snooker" ? "frame" : "rack"}.`);
+  if (d.over && d.winner != null) out.push(`${playerName(view, d.winner)} wins the ${view.game === "snooker" ? "frame" : "rack"}.`);
   return out.join(" ");
 }
 
@@ -80,9 +86,9 @@ export function nextPoolRun(run, d) {
 /** The score line: racks or frames won, points in the rack, and the current break. */
 export function scoreWords(view, poolRun = 0) {
   const s = view.state;
-  const names = [0, 1].filter((seat) => view.mode !== "practice" || seat === 0);
-  const scores = names.map((seat) => `${seatName(view, seat)} ${s.scores[seat]}`).join(", ");
+  const scores = [0, 1].map((player) => `${playerName(view, player)} ${s.scores[player]}`).join(", ");
   const unit = view.game === "snooker" || view.game === "three_cushion" ? "points" : "racks";
   const race = view.options?.race_to > 1 ? ` Racks won ${view.racks_won.join("-")}.` : "";
-  return `Score (${unit}): ${scores}. Break: ${breakCount(view, poolRun)}.${race}`;
+  const best = view.mode === "practice" && Math.max(...s.best) > 0 ? ` Best break: ${Math.max(...s.best)}.` : "";
+  return `Score (${unit}): ${scores}. Break: ${breakCount(view, poolRun)}.${best}${race}`;
 }

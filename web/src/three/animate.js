@@ -35,6 +35,7 @@ export class Animation {
     this.view.drawTimes = [];
     this.view.setBalls(this.positions(0));
     this.view.animating += 1;
+    this.view.setScale(this.view.scale);
     this.view.frameHooks.push(this.hook);
     this.view.invalidate();
     return this;
@@ -46,6 +47,7 @@ export class Animation {
     if (i < 0) return;
     hooks.splice(i, 1);
     this.view.animating -= 1;
+    if (!this.view.animating) this.view.setScale(1);
     this.view.invalidate();
   }
 

@@ -11,6 +11,9 @@ const CUE_BUTT = 0.015;
 /** Gap between tip and ball at zero power, and the extra draw-back at full power (m). */
 const CUE_GAP = 0.01;
 const CUE_DRAW = 0.22;
+/** Frame interval (ms) above which the resolution is lowered, and the lowest scale. */
+const SLOW_FRAME_MS = 40;
+const MIN_SCALE = 0.4;
 
 function makeCue() {
   const group = new THREE.Group();
@@ -43,7 +46,9 @@ export class TableView {
     this.game = game;
     this.frame = frame(table);
     this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
-    this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
+    this.pixelRatio = Math.min(window.devicePixelRatio || 1, 2);
+    this.scale = 1; // lowered by `adapt` on a device too slow for the full resolution
+    this.renderer.setPixelRatio(this.pixelRatio);
     this.renderer.shadowMap.enabled = true;
     this.renderer.shadowMap.type = THREE.PCFShadowMap;
     this.scene = new THREE.Scene();
@@ -226,7 +231,11 @@ export class TableView {
       const ball = this.frame.toWorld(cuePos[0], cuePos[1], this.table.R);
       const dist = this.aimDistance;
       cam.up.set(0, 1, 0);
-      cam.position.copy(ball).addScaledVector(d, -dist).add(new THREE.Vector3(0, dist * 0.38, 0));
+      cam.position.copy(ball).addScaledVector(d, -dist);
+      // Behind a rail the camera rises by how far it is past the cushion, to see over it.
+      const [x, y] = this.frame.toTable(cam.position);
+      const past = Math.max(0, -x, x - this.table.w, -y, y - this.table.l);
+      cam.position.y += dist * 0.38 + past * 0.9;
       cam.lookAt(ball.clone().addScaledVector(d, dist * 0.6));
       this.shownMode = "aim";
       return;
@@ -269,8 +278,34 @@ export class TableView {
     this.placeCamera();
     this.renderer.render(this.scene, this.camera);
     // The main thread's cost of an animation frame (evaluation, scene update, WebGL calls).
-    if (animating) this.drawTimes.push(performance.now() - started);
+    if (animating) {
+      this.drawTimes.push(performance.now() - started);
+      this.adapt(now);
+    }
+    this.lastFrame = animating ? now : null;
     if (this.animating) this.invalidate();
+  }
+
+  /** While animating, render fewer pixels when frames come slower than SLOW_FRAME_MS (a weak
+   *  GPU, or software rendering): each step draws 0.75 as many pixels per side, down to MIN_SCALE. */
+  adapt(now) {
+    if (this.lastFrame == null) return;
+    const recent = (this.recent ??= []);
+    recent.push(now - this.lastFrame);
+    if (recent.length < 8) return;
+    const median = [...recent].sort((a, b) => a - b)[4];
+    recent.length = 0;
+    if (median > SLOW_FRAME_MS && this.scale > MIN_SCALE) {
+      this.scale = Math.max(MIN_SCALE, this.scale * 0.75);
+      this.setScale(this.scale);
+    }
+  }
+
+  /** Render at `scale` of the full resolution (animations start at the scale last learnt; a
+   *  still table is drawn once, at full resolution). */
+  setScale(scale) {
+    this.renderer.setPixelRatio(this.pixelRatio * scale);
+    this.resize();
   }
 
   /** The table point [x, y] under a pointer event, or null off the cloth plane. */

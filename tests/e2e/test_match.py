@@ -1,0 +1,100 @@
+"""An online match in three browser contexts: Ada creates a table from the home page, Bob
+opens its link and joins, Cy watches. Each player shoots with the keyboard; all three see
+every outcome and agree on the balls; Bob reloads mid-match and resumes where the table is."""
+
+from __future__ import annotations
+
+import math
+
+from tests.e2e.conftest import (
+    drawn_balls,
+    enter_name,
+    screenshot,
+    strike_with_keys,
+    unique_name,
+)
+
+#: Enough shots for both players to have had a turn (a player who pots goes on).
+MAX_SHOTS = 8
+
+
+def view_of(page, server, table_id: str) -> dict:
+    return page.request.get(f"{server.url}/api/tables/{table_id}").json()
+
+
+def wait_version(page, version: int) -> None:
+    """Until the page shows the table at `version` (any animation played to its end)."""
+    page.wait_for_function(
+        "(v) => (window.billiards?.version ?? -1) >= v", arg=version, timeout=90_000
+    )
+
+
+def assert_shows(page, view: dict) -> None:
+    drawn = drawn_balls(page)
+    assert drawn.keys() == view["state"]["balls"].keys()
+    for ball, p in drawn.items():
+        assert math.dist(p, view["state"]["balls"][ball]) < 1e-9, ball
+
+
+def test_two_players_and_a_spectator(browser, server, console):
+    contexts = [browser.new_context(viewport={"width": 1100, "height": 700}) for _ in range(3)]
+    ada, bob, cy = (
+        console.watch(c.new_page(), who) for c, who in zip(contexts, "ABC", strict=True)
+    )
+    try:
+        ada.goto(server.url + "/")
+        ada.fill("#name", unique_name("Ada"))
+        ada.click("#name-form button")
+        ada.wait_for_function("document.getElementById('who').textContent !== ''")
+        ada.select_option("#create-game", "nineball")
+        ada.click("#create-form button[type=submit]")
+        ada.wait_for_url("**/table/*")
+        table_id = ada.url.rsplit("/", 1)[1]
+        wait_version(ada, 0)
+        assert "Waiting for an opponent" in ada.get_by_role("status").inner_text()
+
+        bob.goto(ada.url)
+        bob.get_by_role("button", name="Join this table").click()
+        enter_name(bob, unique_name("Bob"))
+        started = view_of(bob, server, table_id)
+        assert started["status"] == "playing"
+        cy.goto(ada.url)
+        pages = {0: ada, 1: bob}
+        for page in (ada, bob, cy):
+            wait_version(page, started["version"])
+        assert cy.get_by_role("button", name="Join this table").count() == 0
+
+        shooters = set()
+        view = started
+        for _ in range(MAX_SHOTS):
+            seat = view["next"]["seat"]
+            shooter = pages[seat]
+            if view["next"]["kinds"] == ["choice"]:
+                shooter.locator("#choices button").first.click()
+            else:
+                strike_with_keys(shooter, hold_ms=400 + 150 * len(shooters), left=2)
+            shooters.add(seat)
+            shooter.wait_for_function(
+                "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
+            )
+            view = view_of(cy, server, table_id)
+            for page in (ada, bob, cy):
+                wait_version(page, view["version"])
+                assert_shows(page, view)
+            words = {p.get_by_role("status").inner_text() for p in (ada, bob, cy)}
+            assert len(words) == 1, words  # players and spectator read the same
+            if shooters == {0, 1} or view["status"] != "playing":
+                break
+        assert shooters == {0, 1}
+        screenshot(cy, "match-spectator")
+        screenshot(ada, "match-player")
+
+        # Bob reloads: the page resumes at the table's version, showing the same table.
+        bob.reload()
+        wait_version(bob, view["version"])
+        assert_shows(bob, view_of(bob, server, table_id))
+        assert bob.get_by_role("button", name="Join this table").count() == 0
+        screenshot(bob, "match-after-reload")
+    finally:
+        for c in contexts:
+            c.close()
