@@ -10,7 +10,7 @@ from __future__ import annotations
 from enum import StrEnum
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, StringConstraints
+from pydantic import BaseModel, ConfigDict, Field, StringConstraints, field_validator
 
 from physics.trajectory import Event
 from rules.inputs import PlayerInput
@@ -20,6 +20,8 @@ from server.errors import ErrorCode
 
 #: The format version of channel messages; bumped when a client must change to read them.
 PROTOCOL = 1
+#: The shortest shot clock a table may have (s).
+MIN_SHOT_CLOCK = 10
 
 _REQUEST = ConfigDict(frozen=True, extra="forbid")
 _ANSWER = ConfigDict(frozen=True)
@@ -120,6 +122,13 @@ class TableCreate(BaseModel):
     shot_clock: Annotated[int, Field(ge=0, le=300)] = 0
     private: bool = False
     bot: BotName = BotName.PICKER
+
+    @field_validator("shot_clock")
+    @classmethod
+    def _clock_or_none(cls, seconds: int) -> int:
+        if 0 < seconds < MIN_SHOT_CLOCK:
+            raise ValueError(f"a shot clock is 0 (none) or at least {MIN_SHOT_CLOCK} s")
+        return seconds
 
     def options(self) -> TableOptions:
         return TableOptions(race_to=self.race_to, shot_clock=self.shot_clock, private=self.private)
@@ -274,16 +283,6 @@ class TableMessage(BaseModel):
     protocol: int = PROTOCOL
     version: int
     view: TableView
-
-
-class ClockMessage(BaseModel):
-    model_config = _ANSWER
-
-    kind: Literal["clock"] = "clock"
-    protocol: int = PROTOCOL
-    version: int
-    seat: Seat
-    deadline: float
 
 
 class PresenceMessage(BaseModel):

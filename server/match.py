@@ -127,6 +127,10 @@ class MatchOwner:
         self._enqueue(lambda: self._change(change, done))
         return await done
 
+    def expire(self) -> None:
+        """Rule on a shot clock that may have run out (server/clock.py)."""
+        self._enqueue(self._expire)
+
     def poke(self) -> None:
         """Look at the table: finish an abandoned input, let a bot play (after a restart)."""
         self._enqueue(self._look)
@@ -147,10 +151,17 @@ class MatchOwner:
             else:
                 await asyncio.sleep(PENDING_POLL)
 
-    async def _play_intent(self, player: PlayerInfo, intent: Intent, ack: asyncio.Future) -> None:
+    async def _play_intent(
+        self, player: PlayerInfo, intent: Intent, ack: asyncio.Future, *, on_time: bool = True
+    ) -> None:
+        """Validate, accept (answering `ack`), play, store and publish one intent.
+
+        on_time: refuse the intent once the shot clock has run out (False for the clock's own).
+        """
         try:
             for _ in range(CAS_TRIES):
-                answer = await self._admit(await self._settled(), player, intent)
+                record = await self._settled()
+                answer = await self._admit(record, player, intent, on_time)
                 if answer is not None:
                     break
             else:
@@ -166,7 +177,7 @@ class MatchOwner:
         self._enqueue(self._look)
 
     async def _admit(
-        self, record: TableRecord, player: PlayerInfo, intent: Intent
+        self, record: TableRecord, player: PlayerInfo, intent: Intent, on_time: bool
     ) -> TableRecord | IntentDuplicate | None:
         """The record with the intent accepted, its first answer if it is a resend, or None
         if another replica changed the table meanwhile. ServiceError for a refusal."""
@@ -175,6 +186,8 @@ class MatchOwner:
         if seen is not None:
             return duplicate(seen)
         entry = validate(record, player, intent)
+        if on_time and record.deadline is not None and time.time() > record.deadline:
+            raise ServiceError(ErrorCode.WRONG_PHASE, "the shot clock ran out")
         entry = entry.model_copy(update={"replica": self._context.replica})
         result = await storage.accept(record.model_copy(update={"pending": entry}))
         if result.result is AcceptResult.DUPLICATE:
@@ -223,6 +236,25 @@ class MatchOwner:
         done.set_result(after)
         self._enqueue(self._look)
 
+    async def _expire(self) -> None:
+        """Play the timeout input for the seat to act if its deadline has passed."""
+        record = await self._settled()
+        seat = tables.acting_seat(record)
+        if record.deadline is None or record.deadline > time.time() or seat is None:
+            return
+        occupant = record.seats[seat]
+        action = refereeing.timeout_input(record.state)
+        shot_id = f"clock-{record.version:08d}"
+        intent = Intent(version=record.version, shot_id=shot_id, input=action)
+        await self._play_quietly(occupant, intent, on_time=False)
+
+    async def _play_quietly(self, player: PlayerInfo, intent: Intent, *, on_time: bool) -> None:
+        """Play an input the server makes (bot, clock); a refusal is a bug, so it is logged."""
+        ack: asyncio.Future = asyncio.get_running_loop().create_future()
+        await self._play_intent(player, intent, ack, on_time=on_time)
+        if ack.exception() is not None:
+            log.error("table %s: server input refused: %s", self.table_id, ack.exception())
+
     async def _look(self) -> None:
         """Let a bot seat play if it is to act (its shot goes through the same path)."""
         record = await self._settled()
@@ -232,10 +264,7 @@ class MatchOwner:
             return
         action = await self._context.pool.bot_input(record.state)
         intent = Intent(version=record.version, shot_id=f"bot-{record.version:08d}", input=action)
-        ack: asyncio.Future = asyncio.get_running_loop().create_future()
-        await self._play_intent(occupant, intent, ack)
-        if ack.exception() is not None:
-            log.error("table %s: the bot's input was refused: %s", record.id, ack.exception())
+        await self._play_quietly(occupant, intent, on_time=True)
 
 
 def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEntry:

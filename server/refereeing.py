@@ -7,17 +7,21 @@ they return is picklable and already in wire form, so the event loop only stores
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import physics
 from physics.trajectory import Shot as EngineShot
 from rules.game import REFEREES, Setup, choose, play, shot_position, start
-from rules.inputs import Choice, PlayerInput
+from rules.inputs import Choice, PlayerInput, Shot, Strike
 from rules.pickers import pick
 from rules.racks import GameName
+from rules.spots import in_region, is_free
 from rules.state import Decision, RuleError, State
 from server.api_models import InputKind, Trajectory, WireSegment
 
+#: Cue speed (m/s) of the stroke played when the shot clock runs out: it rolls about 1 cm.
+TIMEOUT_SPEED = 0.05
 #: Significant digits kept in a published trajectory (animation only; rest positions are exact).
 TRAJECTORY_DIGITS = 7
 
@@ -30,6 +34,7 @@ __all__ = [
     "new_rack",
     "referee",
     "rule_code",
+    "timeout_input",
 ]
 
 
@@ -107,6 +112,34 @@ def referee(state: State, action: PlayerInput) -> Refereed:
         return Refereed(state=state, decision=None, trajectory=None, void=str(error))
     trajectory = wire_trajectory(shots[0]) if shots else None
     return Refereed(state=new_state, decision=decision, trajectory=trajectory)
+
+
+def timeout_input(state: State) -> PlayerInput:
+    """What the server plays for a player whose shot clock ran out (see server/clock.py).
+
+    A pending choice takes the first option offered; otherwise a dead-slow stroke of the cue
+    ball straight away from the nearest ball (placed first, on the first free point of a grid
+    over the region, if it is in hand off the table), which the referee rules as a shot that
+    hit no ball: a foul in pool and snooker, no point and the turn over in three-cushion.
+    """
+    if state.pending:
+        return Choice(option=state.pending[0])
+    referee_ = REFEREES[state.game]
+    table, cue = referee_.TABLE, referee_.cue_ball(state)
+    others = {ball: p for ball, p in state.balls.items() if ball != cue}
+    at, place = state.balls.get(cue), None
+    if at is None:
+        grid = [
+            (table.width * i / 8, table.length * j / 32) for j in range(1, 32) for i in range(1, 8)
+        ]
+        region = state.ball_in_hand or "anywhere"
+        at = place = next(
+            p for p in grid if in_region(p, region, table) and is_free(p, others, table.R)
+        )
+    nearest = min(others.values(), key=lambda p: math.dist(p, at))
+    heading = math.degrees(math.atan2(at[1] - nearest[1], at[0] - nearest[0])) % 360.0
+    strike = Strike(ball=cue, speed=TIMEOUT_SPEED, heading=round(heading, 4))
+    return Shot(strike=strike, place=place)
 
 
 def bot_input(state: State) -> PlayerInput:

@@ -1,7 +1,9 @@
-"""`billiards serve`: run the server (relay included) until interrupted.
+"""`billiards serve`: run the server (relay and game service) until interrupted.
 
-Replicas sharing one Redis must check each other's publish tokens, so they share the HMAC key,
-read from the environment variable `BILLIARDS_RELAY_SECRET` (a random key per process if unset).
+Tokens must outlive a restart (a player's token is its identity), so the signing key is read
+from the environment variable `BILLIARDS_RELAY_SECRET` or, without Redis, kept in a key file
+beside the SQLite database (`--db`, created on first run). Replicas sharing one Redis must check
+each other's tokens, so they share the key through the environment variable.
 
 `--uvloop` runs the server on uvloop's event loop (libuv) instead of asyncio's own: the same
 code, cheaper socket writes and callbacks (see the relay benchmark). uvloop is not a dependency:
@@ -13,6 +15,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import os
+from pathlib import Path
 
 
 def new_event_loop(use_uvloop: bool) -> asyncio.AbstractEventLoop:
@@ -30,10 +33,17 @@ def _serve(args: argparse.Namespace) -> int:
     from aiohttp import web
 
     from server.app import AppSettings, create_app
+    from server.identity import load_secret
     from server.relay.settings import RelaySettings
 
-    relay = RelaySettings(auth_secret=os.environ.get("BILLIARDS_RELAY_SECRET"))
-    app = create_app(AppSettings(relay=relay, redis_url=args.redis))
+    secret = os.environ.get("BILLIARDS_RELAY_SECRET")
+    if secret is None and args.redis is None:
+        secret = load_secret(Path(args.db).with_suffix(".key"))
+    relay = RelaySettings(auth_secret=secret)
+    settings = AppSettings(
+        relay=relay, redis_url=args.redis, database=args.db, workers=args.workers
+    )
+    app = create_app(settings)
     web.run_app(app, host=args.host, port=args.port, loop=new_event_loop(args.uvloop))
     return 0
 
@@ -43,6 +53,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--host", default="127.0.0.1", help="address to listen on")
     parser.add_argument("--port", type=int, default=8080, help="TCP port")
     parser.add_argument("--redis", metavar="URL", help="Redis URL (default: in-memory relay)")
+    parser.add_argument(
+        "--db", default="billiards.sqlite3", help="SQLite file of the game (without --redis)"
+    )
+    parser.add_argument("--workers", type=int, help="simulation processes (default: one per core)")
     parser.add_argument(
         "--uvloop", action="store_true", help="run on uvloop's event loop (pip install uvloop)"
     )

@@ -14,6 +14,7 @@ from aiohttp import web
 
 from server.api_models import PresenceMessage
 from server.channels import Publisher
+from server.clock import running_clock
 from server.identity import Identity
 from server.lobby import Lobby
 from server.match import MatchContext, Matches, new_replica_id
@@ -65,7 +66,7 @@ async def running_service(
         matches=Matches(context),
     )
     try:
-        async with lobby.running():
+        async with lobby.running(), running_clock(storage, service.matches):
             yield service
             await service.matches.idle()
     finally:

@@ -102,7 +102,7 @@ def new_table(table_id: str, create: TableCreate, creator: PlayerInfo, seed: int
     """A table as created: practice and bot tables play at once, a match waits for a player."""
     second = bot_player(create.bot) if create.mode is Mode.BOT else None
     status = Status.OPEN if create.mode is Mode.MATCH else Status.PLAYING
-    return TableRecord(
+    record = TableRecord(
         id=table_id,
         game=create.game,
         mode=create.mode,
@@ -114,6 +114,7 @@ def new_table(table_id: str, create: TableCreate, creator: PlayerInfo, seed: int
         state=refereeing.new_rack(create.game, seed + 1, 0),
         created=time.time(),
     )
+    return record.model_copy(update={"deadline": next_deadline(record)})
 
 
 def seat_of(record: TableRecord, player_id: str) -> int | None:
@@ -134,8 +135,18 @@ def join(record: TableRecord, player: PlayerInfo) -> TableRecord:
 
 
 def bump(record: TableRecord, **changes: object) -> TableRecord:
-    """The record with `changes` and the next version (every stored change goes through here)."""
-    return record.model_copy(update={**changes, "version": record.version + 1})
+    """The record with `changes` and the next version (every stored change goes through here).
+
+    Every new version restarts the shot clock of the seat then to act (server/clock.py).
+    """
+    after = record.model_copy(update={**changes, "version": record.version + 1})
+    return after.model_copy(update={"deadline": next_deadline(after)})
+
+
+def next_deadline(record: TableRecord) -> float | None:
+    """When the shot clock of the seat to act runs out, from now (None: no clock, no turn)."""
+    clock = record.options.shot_clock
+    return time.time() + clock if clock and acting_seat(record) is not None else None
 
 
 def acting_seat(record: TableRecord) -> int | None:

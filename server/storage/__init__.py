@@ -23,7 +23,8 @@ What a backend must guarantee
 5. **Input log.** `inputs` lists the resolved inputs of a table in the order they were played,
    each with its outcome; `find_input` finds one by shot id, pending or resolved.
 6. **Listing.** `listed_tables` returns the tables whose last stored record is `listed` (public,
-   open or playing), newest first, at most `limit`.
+   open or playing), newest first, at most `limit`; `due_tables` those whose last stored
+   record has a `deadline` at or before a time, earliest first.
 7. **Name claims.** `claim_name` gives a name key to one player until a time; it succeeds when
    the key is unclaimed, expired, or already the same player's (then it extends the claim).
    `online_players` counts unexpired claims.
@@ -114,6 +115,10 @@ class Storage(ABC):
     @abstractmethod
     async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
         """The last heartbeat of each seat (None: never)."""
+
+    @abstractmethod
+    async def due_tables(self, now: float, limit: int) -> list[str]:
+        """Tables whose stored shot-clock deadline is at or before `now`, earliest first."""
 
     @abstractmethod
     async def listed_tables(self, limit: int) -> list[TableRecord]: ...

@@ -6,6 +6,7 @@ replica sends it. Keys, all prefixed `game:`:
 - `t:{id}` a hash of the table: `version`, `pending` (shot id or ""), `doc`;
 - `i:{id}` a hash shot id -> input entry; `l:{id}` the resolved shot ids in order;
 - `h:{id}` the heartbeats of its seats; `listed` a sorted set of listed tables by creation;
+  `deadlines` a sorted set of tables by shot-clock deadline;
 - `p:{id}` players; `n:{key}` name claims (expiring) and `online` the claims by expiry;
 - `q:{game}` the quick-match queues and `qs:{player}` each player's quick-match status.
 """
@@ -29,11 +30,13 @@ from server.tables import InputEntry, TableRecord
 
 P = "game:"
 
-# KEYS: table, listed. ARGV: version, doc, table id, listed (0/1), created.
+# KEYS: table, listed, deadlines. ARGV: version, doc, table id, listed (0/1), created,
+# deadline ("" for none).
 _CREATE = """
 if redis.call('EXISTS', KEYS[1]) == 1 then return 0 end
 redis.call('HSET', KEYS[1], 'version', ARGV[1], 'pending', '', 'doc', ARGV[2])
 if ARGV[4] == '1' then redis.call('ZADD', KEYS[2], ARGV[5], ARGV[3]) end
+if ARGV[6] ~= '' then redis.call('ZADD', KEYS[3], ARGV[6], ARGV[3]) end
 return 1
 """
 
@@ -48,8 +51,9 @@ redis.call('HSET', KEYS[1], 'pending', ARGV[2], 'doc', ARGV[3])
 return {0}
 """
 
-# KEYS: table, inputs, log, listed. ARGV: expected version, expected pending, new version,
-# doc, table id, listed (0/1), created, shot id to log ("" for none), entry.
+# KEYS: table, inputs, log, listed, deadlines. ARGV: expected version, expected pending, new
+# version, doc, table id, listed (0/1), created, shot id to log ("" for none), entry,
+# deadline ("" for none).
 _SWAP = """
 local stamp = redis.call('HMGET', KEYS[1], 'version', 'pending')
 if stamp[1] ~= ARGV[1] or stamp[2] ~= ARGV[2] then return 0 end
@@ -60,6 +64,8 @@ if ARGV[8] ~= '' then
 end
 if ARGV[6] == '1' then redis.call('ZADD', KEYS[4], ARGV[7], ARGV[5])
 else redis.call('ZREM', KEYS[4], ARGV[5]) end
+if ARGV[10] ~= '' then redis.call('ZADD', KEYS[5], ARGV[10], ARGV[5])
+else redis.call('ZREM', KEYS[5], ARGV[5]) end
 return 1
 """
 
@@ -145,12 +151,19 @@ class RedisStorage(Storage):
 
     # ----- tables -----------------------------------------------------------------------
     def _keys(self, table_id: str) -> list[str]:
-        return [f"{P}t:{table_id}", f"{P}i:{table_id}", f"{P}l:{table_id}", f"{P}listed"]
+        return [
+            f"{P}t:{table_id}",
+            f"{P}i:{table_id}",
+            f"{P}l:{table_id}",
+            f"{P}listed",
+            f"{P}deadlines",
+        ]
 
     async def create_table(self, record: TableRecord) -> None:
-        keys = [f"{P}t:{record.id}", f"{P}listed"]
+        keys = [f"{P}t:{record.id}", f"{P}listed", f"{P}deadlines"]
         args = [record.version, record.model_dump_json(), record.id, int(record.listed)]
-        if not await self._create(keys=keys, args=[*args, record.created]):
+        deadline = "" if record.deadline is None else repr(record.deadline)
+        if not await self._create(keys=keys, args=[*args, record.created, deadline]):
             raise ValueError(f"table {record.id} exists")
 
     async def get_table(self, table_id: str) -> TableRecord | None:
@@ -178,6 +191,7 @@ class RedisStorage(Storage):
             record.created,
             entry.shot_id if entry else "",
             entry.model_dump_json() if entry else "",
+            "" if record.deadline is None else repr(record.deadline),
         ]
         return bool(await self._swap_script(keys=self._keys(record.id), args=args))
 
@@ -204,6 +218,9 @@ class RedisStorage(Storage):
     async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
         seen = await self._redis.hmget(f"{P}h:{table_id}", ["0", "1"])
         return tuple(None if s is None else float(s) for s in seen)  # type: ignore[return-value]
+
+    async def due_tables(self, now: float, limit: int) -> list[str]:
+        return await self._redis.zrangebyscore(f"{P}deadlines", "-inf", now, start=0, num=limit)
 
     async def listed_tables(self, limit: int) -> list[TableRecord]:
         ids = await self._redis.zrevrange(f"{P}listed", 0, limit - 1)

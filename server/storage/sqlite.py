@@ -33,8 +33,9 @@ CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS names (key TEXT PRIMARY KEY, player TEXT NOT NULL, until REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS tables (
     id TEXT PRIMARY KEY, version INTEGER NOT NULL, pending TEXT NOT NULL,
-    listed INTEGER NOT NULL, created REAL NOT NULL, doc TEXT NOT NULL);
+    listed INTEGER NOT NULL, created REAL NOT NULL, deadline REAL, doc TEXT NOT NULL);
 CREATE INDEX IF NOT EXISTS tables_listed ON tables (listed, created);
+CREATE INDEX IF NOT EXISTS tables_deadline ON tables (deadline);
 CREATE TABLE IF NOT EXISTS inputs (
     table_id TEXT NOT NULL, shot_id TEXT NOT NULL, seq INTEGER, doc TEXT NOT NULL,
     PRIMARY KEY (table_id, shot_id));
@@ -111,12 +112,13 @@ class SqliteStorage(Storage):
         async with self._transaction() as db:
             try:
                 await db.execute(
-                    "INSERT INTO tables VALUES (?, ?, '', ?, ?, ?)",
+                    "INSERT INTO tables VALUES (?, ?, '', ?, ?, ?, ?)",
                     (
                         record.id,
                         record.version,
                         int(record.listed),
                         record.created,
+                        record.deadline,
                         record.model_dump_json(),
                     ),
                 )
@@ -133,8 +135,16 @@ class SqliteStorage(Storage):
 
     async def _write(self, db: aiosqlite.Connection, record: TableRecord, pending: str) -> None:
         await db.execute(
-            "UPDATE tables SET version = ?, pending = ?, listed = ?, doc = ? WHERE id = ?",
-            (record.version, pending, int(record.listed), record.model_dump_json(), record.id),
+            "UPDATE tables SET version = ?, pending = ?, listed = ?, deadline = ?, doc = ? "
+            "WHERE id = ?",
+            (
+                record.version,
+                pending,
+                int(record.listed),
+                record.deadline,
+                record.model_dump_json(),
+                record.id,
+            ),
         )
 
     async def accept(self, record: TableRecord) -> Accepted:
@@ -208,6 +218,15 @@ class SqliteStorage(Storage):
         ):
             seen = dict(await cursor.fetchall())
         return seen.get(0), seen.get(1)
+
+    async def due_tables(self, now: float, limit: int) -> list[str]:
+        async with (
+            self._lock,
+            self._db.execute(
+                "SELECT id FROM tables WHERE deadline <= ? ORDER BY deadline LIMIT ?", (now, limit)
+            ) as cursor,
+        ):
+            return [row[0] for row in await cursor.fetchall()]
 
     async def listed_tables(self, limit: int) -> list[TableRecord]:
         async with (

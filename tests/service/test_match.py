@@ -17,8 +17,11 @@ def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
     return pick(State.model_validate(view_or_outcome["state"])).model_dump(mode="json")
 
 
-async def seated_match(server: TestClient) -> tuple[Player, Player, dict[str, Any]]:
-    ada, bob = await register(server, "Ada"), await register(server, "Bob")
+async def seated_match(
+    server: TestClient, players: tuple[Player, Player] | None = None
+) -> tuple[Player, Player, dict[str, Any]]:
+    """A nine-ball match between Ada (seat 0) and Bob (seat 1), registered if not given."""
+    ada, bob = players or (await register(server, "Ada"), await register(server, "Bob"))
     table = await ada.create("nineball")
     _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
     return ada, bob, view

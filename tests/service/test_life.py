@@ -1,0 +1,123 @@
+"""Match life: restarts, abandoned inputs, presence and claims, resign, rematch, messages."""
+
+from __future__ import annotations
+
+import time
+
+from aiohttp.test_utils import TestClient
+
+from rules.inputs import Shot
+from server.match import LEASE
+from server.tables import InputEntry
+from tests.service.conftest import StartServer, register, service_of, watch
+from tests.service.test_match import picked, seated_match
+
+
+async def test_a_restarted_server_resumes_the_match_and_honours_old_tokens(
+    start_server: StartServer,
+) -> None:
+    first = await start_server()
+    ada, bob, view = await seated_match(first)
+    status, _ = await ada.shoot(view["id"], view["version"], picked(view))
+    assert status == 202
+    await service_of(first).matches.idle()
+    before = await (await first.get(f"/api/tables/{view['id']}")).json()
+    await first.close()
+
+    second = await start_server()
+    after = await (await second.get(f"/api/tables/{view['id']}")).json()
+    assert after == before
+    ada.http = bob.http = second
+    assert (await ada.call("GET", "/api/me", expect=200))[1] == ada.info
+    player = ada if after["next"]["seat"] == 0 else bob
+    status, ack = await player.shoot(view["id"], after["version"], picked(after))
+    assert (status, ack["version"]) == (202, after["version"] + 1)
+
+
+async def test_an_input_abandoned_by_a_dead_replica_is_played_after_the_lease(
+    server: TestClient,
+) -> None:
+    ada, _, view = await seated_match(server)
+    storage = service_of(server).storage
+    record = await storage.get_table(view["id"])
+    entry = InputEntry(
+        shot_id="orphan-0001",
+        seat=0,
+        input=Shot.model_validate(picked(view)),
+        version=record.version,
+        accepted_at=time.time() - LEASE - 1,
+        replica="a-replica-that-died",
+    )
+    await storage.accept(record.model_copy(update={"pending": entry}))
+    watcher = await watch(server, view["channel"])
+    await server.get(f"/api/tables/{view['id']}")  # any request looks at the table
+    outcome = await watcher.next_kind("outcome")
+    assert (outcome["shot_id"], outcome["version"]) == ("orphan-0001", view["version"] + 1)
+    status, again = await ada.shoot(view["id"], view["version"], picked(view), "orphan-0001")
+    assert status == 200 and again["outcome"] == outcome
+
+
+async def test_presence_claim_and_resign(server: TestClient) -> None:
+    ada, bob, view = await seated_match(server)
+    table = view["id"]
+    watcher = await watch(server, view["channel"])
+    _, presence = await ada.call("POST", f"/api/tables/{table}/heartbeat", expect=200)
+    assert presence["presence"] == [True, True]
+    assert (await watcher.next_kind("presence"))["presence"] == [True, True]
+    storage = service_of(server).storage
+    await storage.heartbeat(table, 1, time.time() - 1000)  # Bob left long ago
+    _, presence = await ada.call("POST", f"/api/tables/{table}/heartbeat", expect=200)
+    assert presence["presence"] == [True, False] and presence["grace_until"][1] < time.time()
+    assert (await watcher.next_kind("presence"))["presence"] == [True, False]
+    status, body = await bob.call("POST", f"/api/tables/{table}/claim")
+    assert (status, body["code"]) == (409, "wrong_phase")  # Ada is here
+    _, won = await ada.call("POST", f"/api/tables/{table}/claim", expect=200)
+    assert (won["status"], won["winner"]) == ("over", 0)
+    message = await watcher.next_kind("table")
+    assert message["version"] == won["version"] and message["view"]["winner"] == 0
+    status, body = await bob.call("POST", f"/api/tables/{table}/resign")
+    assert (status, body["code"]) == (409, "wrong_phase")
+
+    _, _, other = await seated_match(server, (ada, bob))
+    _, resigned = await ada.call("POST", f"/api/tables/{other['id']}/resign", expect=200)
+    assert (resigned["status"], resigned["winner"]) == ("over", 1)
+
+
+async def test_a_rematch_swaps_the_break_once_both_ask(server: TestClient) -> None:
+    ada, bob, view = await seated_match(server)
+    table = view["id"]
+    status, body = await ada.call("POST", f"/api/tables/{table}/rematch")
+    assert (status, body["code"]) == (409, "wrong_phase")  # not over yet
+    await bob.call("POST", f"/api/tables/{table}/resign", expect=200)
+    _, offered = await ada.call("POST", f"/api/tables/{table}/rematch", expect=200)
+    assert offered["rematch"] == [True, False] and offered["rematch_table"] is None
+    _, accepted = await bob.call("POST", f"/api/tables/{table}/rematch", expect=200)
+    fresh = await (await server.get(f"/api/tables/{accepted['rematch_table']}")).json()
+    assert [s["id"] for s in fresh["seats"]] == [bob.info["id"], ada.info["id"]]
+    assert fresh["status"] == "playing" and fresh["next"]["seat"] == 0
+
+
+async def test_quick_messages_are_a_fixed_set_and_rate_limited(server: TestClient) -> None:
+    ada, _, view = await seated_match(server)
+    eve = await register(server, "Eve")  # a spectator may talk too
+    watcher = await watch(server, view["channel"])
+    path = f"/api/tables/{view['id']}/messages"
+    status, body = await ada.call("POST", path, {"message": "you are bad"})
+    assert (status, body["code"]) == (400, "bad_request")
+    await ada.call("POST", path, {"message": "good_shot"}, 201)
+    status, body = await ada.call("POST", path, {"message": "good_shot"})
+    assert (status, body["code"]) == (429, "rate_limited")
+    await eve.call("POST", path, {"message": "hello"}, 201)
+    first, second = await watcher.next_kind("chat"), await watcher.next_kind("chat")
+    assert (first["from_name"], first["seat"], first["message"]) == ("Ada", 0, "good_shot")
+    assert (second["from_name"], second["seat"]) == ("Eve", None)
+    assert first["version"] == view["version"]  # messages do not move the version
+
+
+async def test_names_are_unique_among_players_online(server: TestClient) -> None:
+    await register(server, "Ada")
+    response = await server.post("/api/players", json={"name": "ADA"})
+    assert (response.status, (await response.json())["code"]) == (409, "name_taken")
+    for bad in ("", " Ada", "<b>x</b>", "x" * 25, "a\nb"):
+        response = await server.post("/api/players", json={"name": bad})
+        assert response.status == 400, bad

@@ -1,0 +1,80 @@
+"""The lobby channel, quick match over HTTP, and the bot's table."""
+
+from __future__ import annotations
+
+import asyncio
+
+from aiohttp.test_utils import TestClient
+
+from server.lobby import BATCH
+from tests.service.conftest import register, watch
+
+
+async def test_one_hundred_simultaneous_quick_match_requests_seat_everyone_once(
+    server: TestClient,
+) -> None:
+    players = [await register(server, f"Q{i}") for i in range(100)]
+    answers = await asyncio.gather(
+        *(p.call("POST", "/api/quick", {"game": "eightball"}, 200) for p in players)
+    )
+    # Half pair at once; the other half waited, unless their partner came before the answer.
+    assert sum(a[1]["status"] == "paired" for a in answers) >= 50
+    statuses = [(await p.call("GET", "/api/quick", expect=200))[1] for p in players]
+    tables: dict[str, list[str]] = {}
+    for player, status in zip(players, statuses, strict=True):
+        assert status["status"] == "paired"
+        tables.setdefault(status["table"], []).append(player.info["id"])
+    assert len(tables) == 50
+    for table_id, seated in tables.items():
+        view = await (await server.get(f"/api/tables/{table_id}")).json()
+        assert sorted(s["id"] for s in view["seats"]) == sorted(seated)  # two, these two
+        assert view["status"] == "playing" and view["game"] == "eightball"
+
+
+async def test_a_waiting_player_hears_of_its_pairing_and_can_cancel(server: TestClient) -> None:
+    ada, bob, cy = [await register(server, name) for name in ("Ada", "Bob", "Cy")]
+    inbox = await watch(server, f"player-{ada.info['id']}")
+    _, first = await ada.call("POST", "/api/quick", {"game": "snooker"}, 200)
+    assert first == {"status": "waiting", "table": None}
+    _, second = await bob.call("POST", "/api/quick", {"game": "snooker"}, 200)
+    assert second["status"] == "paired"
+    assert await inbox.next() == {"kind": "paired", "protocol": 1, "table": second["table"]}
+    await cy.call("POST", "/api/quick", {"game": "snooker"}, 200)
+    _, cancelled = await cy.call("DELETE", "/api/quick", expect=200)
+    assert cancelled["status"] == "cancelled"
+    assert (await cy.call("GET", "/api/quick", expect=200))[1]["status"] == "idle"
+
+
+async def test_the_lobby_batches_a_crowd_into_few_snapshots(server: TestClient) -> None:
+    lobby = await watch(server, "public-lobby")
+    hosts = [await register(server, f"H{i}") for i in range(30)]
+    created = await asyncio.gather(*(h.create("nineball") for h in hosts))
+    await asyncio.sleep(3 * BATCH)
+    snapshots = []
+    while True:
+        try:
+            snapshots.append(await asyncio.wait_for(lobby.next(), 2 * BATCH))
+        except TimeoutError:
+            break
+    assert 1 <= len(snapshots) <= 4  # 30 tables created: a few snapshots, last value wins
+    last = snapshots[-1]
+    assert last["kind"] == "lobby" and last["players_online"] == 30
+    assert {t["id"] for t in last["tables"]} == {c["id"] for c in created}
+    private = await hosts[0].create("nineball", private=True)
+    listed = await (await server.get("/api/tables")).json()
+    assert private["id"] not in {t["id"] for t in listed["tables"]}
+
+
+async def test_the_bot_answers_through_the_same_match_path(server: TestClient) -> None:
+    ada = await register(server, "Ada")
+    view = await ada.create("nineball", mode="bot")
+    assert view["status"] == "playing" and view["seats"][1]["id"] == "bot:picker"
+    watcher = await watch(server, view["channel"])
+    miss = {"strike": {"ball": "cue", "speed": 0.5, "heading": 270.0}}  # away from every ball
+    status, _ = await ada.shoot(view["id"], view["version"], miss)
+    assert status == 202
+    mine = await watcher.next_kind("outcome")
+    assert mine["seat"] == 0 and mine["next"]["seat"] == 1  # a foul: the bot's turn
+    theirs = await watcher.next_kind("outcome")
+    assert theirs["seat"] == 1 and theirs["shot_id"] == f"bot-{mine['version']:08d}"
+    assert theirs["version"] == mine["version"] + 1 and theirs["trajectory"] is not None
