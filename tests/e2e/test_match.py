@@ -74,9 +74,12 @@ def test_two_players_and_a_spectator(browser, server, console):
             else:
                 strike_with_keys(shooter, hold_ms=400 + 150 * len(shooters), left=2)
             shooters.add(seat)
-            shooter.wait_for_function(
-                "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
-            )
+            try:
+                shooter.wait_for_function(
+                    "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
+                )
+            except Exception as e:
+                raise AssertionError(shooter.get_by_role("status").inner_text()) from e
             view = view_of(cy, server, table_id)
             for page in (ada, bob, cy):
                 wait_version(page, view["version"])

@@ -70,9 +70,6 @@ class PlayPage {
       onOutcome: (m) => this.showOutcome(m),
       onChat: (m) => this.banner(`${m.from_name}: ${QUICK_MESSAGES[m.message] ?? m.message}`, 4000),
       onPresence: (m) => this.showPresence(m.presence, m.grace_until),
-      onClock: (m) => {
-        if (this.shown?.next) this.shown.next.deadline = m.deadline;
-      },
       onConnection: (s) => {
         if (s === "closed") this.banner("Connection lost: reconnecting...");
         else this.banner(null);
@@ -147,6 +144,8 @@ class PlayPage {
       if (message.decision) {
         this.lastWords = decisionWords(shown, message.decision);
         this.poolRun = nextPoolRun(this.poolRun, message.decision);
+      } else if (message.void) {
+        this.lastWords = `The shot could not be played (${message.void}).`;
       }
       this.refresh();
       diagnostics.shown += 1;
@@ -226,13 +225,23 @@ class PlayPage {
     clock.textContent = deadline ? `Shot clock ${Math.max(0, Math.ceil(deadline - Date.now() / 1000))} s` : "";
   }
 
-  /** With the cue ball in hand and off the table, put it on the region's usual spot. */
+  /** With the cue ball in hand and off the table, put it on the region's usual spot, or the
+   *  nearest place round it clear of the other balls (the server still judges the place). */
   ensureCueBall(v) {
     const cue = v.next.cue_ball;
     if (v.state.balls[cue] || !v.next.ball_in_hand) return;
     const t = this.view3d.table;
-    const spot = v.next.ball_in_hand === "D" ? [t.w / 2, t.baulk_y - t.d_radius / 2] : (t.spots.head ?? [t.w / 2, t.l / 4]);
-    this.place(spot);
+    const [x0, y0] = v.next.ball_in_hand === "D" ? [t.w / 2, t.baulk_y - t.d_radius / 2] : (t.spots.head ?? [t.w / 2, t.l / 4]);
+    const others = Object.values(v.state.balls);
+    const clear = ([x, y]) => others.every((p) => Math.hypot(p[0] - x, p[1] - y) > 2.2 * t.R);
+    for (let ring = 0; ring < 12; ring++) {
+      for (let k = 0; k < Math.max(1, ring * 6); k++) {
+        const a = (2 * Math.PI * k) / Math.max(1, ring * 6);
+        const p = [x0 + ring * 2.5 * t.R * Math.cos(a), y0 + ring * 2.5 * t.R * Math.sin(a)];
+        if (clear(p)) return this.place(p);
+      }
+    }
+    this.place([x0, y0]);
   }
 
   place(p) {

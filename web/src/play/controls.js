@@ -16,6 +16,11 @@ const FILL_TIME = 1.6;
 /** Heading change per pixel of horizontal drag in the aim view (degrees). */
 const DRAG_RATE = 0.15;
 
+/** The power after holding Space for `ms` milliseconds. */
+function chargeAfter(ms) {
+  return Math.min(1, Math.max(0, ms / 1000 / FILL_TIME));
+}
+
 export function speedOf(power) {
   return MIN_SPEED + (MAX_SPEED - MIN_SPEED) * power;
 }
@@ -115,6 +120,8 @@ export class Controls {
     window.addEventListener("keyup", (e) => {
       if (e.key !== " " || !this.charging) return;
       e.preventDefault();
+      // The power is the time held, whether or not the frames kept up with it.
+      this.set({ power: chargeAfter(performance.now() - this.charging) });
       this.charging = null;
       this.strike();
     });
@@ -126,7 +133,7 @@ export class Controls {
     this.set({ power: 0 });
     const tick = (now) => {
       if (this.charging !== started) return;
-      this.set({ power: Math.min(1, (now - started) / 1000 / FILL_TIME) });
+      this.set({ power: chargeAfter(now - started) });
       requestAnimationFrame(tick);
     };
     requestAnimationFrame(tick);

@@ -11,7 +11,7 @@ const HEARTBEAT_MS = 3000;
 export class TableSession {
   /**
    * handlers: onView(view) for a whole view (start, resync, `table` messages);
-   * onOutcome(message) -> Promise resolved when it has been shown; onChat, onPresence, onClock;
+   * onOutcome(message) -> Promise resolved when it has been shown; onChat, onPresence;
    * onConnection("open" | "closed").
    */
   constructor(id, handlers) {
@@ -58,7 +58,6 @@ export class TableSession {
     const { kind } = message;
     if (kind === "chat") return this.h.onChat?.(message);
     if (kind === "presence") return this.h.onPresence?.(message);
-    if (kind === "clock") return this.h.onClock?.(message);
     if (kind !== "outcome" && kind !== "table") return;
     if (message.version <= this.version) return;
     if (message.version > this.version + 1) {

@@ -224,8 +224,9 @@ export class TableView {
   placeCamera() {
     const cam = this.camera;
     const aspect = cam.aspect;
-    const cuePos = this.cueId ? this.ballAt(this.cueId) : null;
-    if (this.mode === "aim" && cuePos && !this.animating) {
+    const follow = this.cueId ?? this.cameraBall;
+    const cuePos = follow ? this.ballAt(follow) : null;
+    if (this.mode === "aim" && cuePos && (!this.animating || this.shownMode !== "aim")) {
       const h = (this.aim.heading * Math.PI) / 180;
       const d = this.frame.vector(Math.cos(h), Math.sin(h), 0);
       const ball = this.frame.toWorld(cuePos[0], cuePos[1], this.table.R);
