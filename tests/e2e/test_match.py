@@ -98,6 +98,56 @@ def test_two_players_and_a_spectator(browser, server, console):
         assert_shows(bob, view_of(bob, server, table_id))
         assert bob.get_by_role("button", name="Join this table").count() == 0
         screenshot(bob, "match-after-reload")
+
+        # Ada resigns; Bob offers a rematch, Ada accepts, and both go to the new table.
+        ada.get_by_role("button", name="Resign").click()
+        for page in (ada, bob, cy):
+            page.wait_for_function(
+                "() => document.getElementById('status').textContent.includes('Match over')"
+            )
+        assert "wins" in cy.get_by_role("status").inner_text()
+        bob.get_by_role("button", name="Offer a rematch").click()
+        ada.get_by_role("button", name="Accept the rematch").click()
+        for page in (ada, bob):
+            page.get_by_role("link", name="Go to the rematch").click()
+            page.wait_for_url("**/table/*")
+            wait_version(page, 0)
+        assert ada.url == bob.url and ada.url.rsplit("/", 1)[1] != table_id
+
+        # Bob leaves: Ada is told he is gone once his heartbeats stop (10 s).
+        bob.close()
+        ada.wait_for_selector("#banner:has-text('disconnected')", timeout=40_000)
+        screenshot(ada, "match-opponent-gone")
+    finally:
+        for c in contexts:
+            c.close()
+
+
+def test_quick_match_pairs_two_players(browser, server, console):
+    contexts = [browser.new_context() for _ in range(2)]
+    try:
+        pages = [console.watch(c.new_page(), who) for c, who in zip(contexts, "DE", strict=True)]
+        for page in pages:
+            page.goto(server.url + "/")
+            page.fill("#name", unique_name("Qm"))
+            page.click("#name-form button")
+            page.wait_for_function("document.getElementById('who').textContent !== ''")
+        # The first waits (told of its pairing on its player channel), the second is paired.
+        first, second = pages
+        first.locator("#games .card", has_text="Snooker").get_by_role(
+            "button", name="Quick match"
+        ).click()
+        first.wait_for_selector("text=Waiting for an opponent")
+        second.locator("#games .card", has_text="Snooker").get_by_role(
+            "button", name="Quick match"
+        ).click()
+        for page in pages:
+            page.wait_for_url("**/table/*")
+            wait_version(page, 0)
+        assert first.url == second.url
+        table = view_of(first, server, first.url.rsplit("/", 1)[1])
+        assert table["game"] == "snooker" and table["status"] == "playing"
+        assert all(table["seats"])
     finally:
         for c in contexts:
             c.close()

@@ -119,7 +119,7 @@ class PlayPage {
     this.shown = structuredClone(view);
     this.view3d.setBalls(view.state.balls);
     this.placement = null;
-    this.showPresence(view.presence, [null, null]);
+    this.showPresence(view.presence, this.grace);
     this.session.beat(this.mySeat() !== null && view.status === "playing");
     if (view.last_outcome?.decision && !this.lastWords) this.lastWords = decisionWords(view, view.last_outcome.decision);
     this.refresh();
@@ -219,6 +219,12 @@ class PlayPage {
   }
 
   tickClock() {
+    if (this.goneSeat() >= 0) {
+      this.presenceBanner();
+      const claim = this.claimable();
+      if (claim !== this.claimShown) this.actions(this.shown, this.mySeat());
+      this.claimShown = claim;
+    }
     const clock = $("clock");
     const deadline = this.shown?.next?.deadline;
     if (!clock) return;
@@ -332,7 +338,7 @@ class PlayPage {
     }
     if (mine !== null && v.mode !== "practice") {
       if (v.status === "playing") list.push(act("Resign", "resign"));
-      if (v.status === "playing" && v.presence?.[1 - mine] === false) list.push(act("Claim the win", "claim"));
+      if (this.claimable() && this.goneSeat() === 1 - mine) list.push(act("Claim the win", "claim"));
       if (v.status === "over") list.push(act(v.rematch?.[1 - mine] ? "Accept the rematch" : "Offer a rematch", "rematch"));
       if (v.status === "open") list.push(act("Cancel", "leave"));
     }
@@ -369,18 +375,35 @@ class PlayPage {
   showPresence(presence, graceUntil) {
     if (!this.shown) return;
     this.shown.presence = presence;
-    const gone = presence.findIndex((p, seat) => !p && this.shown.seats[seat]);
-    if (gone >= 0 && this.shown.status === "playing") {
-      const until = graceUntil?.[gone];
-      const wait = until ? ` (may be claimed in ${Math.max(0, Math.round(until - Date.now() / 1000))} s)` : "";
-      this.banner(`${seatName(this.shown, gone)} disconnected${wait}`);
-    } else {
-      this.banner(null);
-    }
+    this.grace = graceUntil ?? [null, null];
+    this.presenceBanner();
     if (this.shown.state) {
       this.scoreboard(this.shown);
       this.actions(this.shown, this.mySeat());
     }
+  }
+
+  /** The seat whose player is gone from a running match, or -1. */
+  goneSeat() {
+    const v = this.shown;
+    if (!v || v.status !== "playing") return -1;
+    return v.presence.findIndex((p, seat) => !p && v.seats[seat]);
+  }
+
+  /** May the opponent of the gone seat claim the win yet (its grace period is over)? */
+  claimable() {
+    const gone = this.goneSeat();
+    const until = gone >= 0 ? this.grace?.[gone] : null;
+    return until != null && until <= Date.now() / 1000;
+  }
+
+  presenceBanner() {
+    const gone = this.goneSeat();
+    if (gone < 0) return this.banner(null);
+    const until = this.grace?.[gone];
+    const left = until ? Math.max(0, Math.ceil(until - Date.now() / 1000)) : null;
+    const wait = left ? ` (the win may be claimed in ${left} s)` : left === 0 ? " (the win may be claimed)" : "";
+    this.banner(`${seatName(this.shown, gone)} disconnected${wait}`);
   }
 
   banner(text, ms) {

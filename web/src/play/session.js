@@ -95,7 +95,11 @@ export class TableSession {
   /** Keep telling the server we are here while seated (the opponent sees us otherwise gone). */
   beat(seated) {
     if (seated && !this.heartbeat) {
-      const send = () => this.action("heartbeat").catch(() => {});
+      // The answer is the table's presence, with the grace periods a reload would not know.
+      const send = () =>
+        this.action("heartbeat")
+          .then((m) => this.h.onPresence?.(m))
+          .catch(() => {});
       send();
       this.heartbeat = setInterval(send, HEARTBEAT_MS);
     } else if (!seated && this.heartbeat) {
