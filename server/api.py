@@ -2,12 +2,15 @@
 
 `ROUTES` is the single source for both the router and the OpenAPI description
 (server/openapi.py): each route names its request model and its answers by status. Bodies are
-JSON of at most `MAX_BODY` bytes, parsed straight into their pydantic model (unknown fields,
-wrong types, NaN and over-deep nesting are refused there); every refusal is `ApiError` JSON.
+JSON of at most `MAX_BODY` bytes (claims: `MAX_RECORD_BODY`), parsed into their pydantic model
+in strict mode (unknown fields, wrong types such as `"3.0"` or `true` for a number, NaN and
+over-deep nesting are refused there); every refusal is `ApiError` JSON.
 """
 
 from __future__ import annotations
 
+import json
+import math
 import time
 from collections.abc import AsyncIterator, Awaitable, Callable
 from dataclasses import dataclass, field
@@ -20,18 +23,25 @@ from redis.exceptions import RedisError
 from server import tables
 from server.api_models import (
     ApiError,
+    BreakEntry,
     ChatMessage,
+    ClaimRequest,
+    ClaimVerdict,
     Intent,
     IntentAccepted,
     IntentDuplicate,
+    Leaderboard,
     Mode,
     PlayerCreate,
     PlayerInfo,
+    PlayerRatings,
     PlayerToken,
     PresenceMessage,
     QuickMessageRequest,
     QuickRequest,
     QuickStatus,
+    RatingView,
+    ReplayView,
     Status,
     TableCreate,
     TableList,
@@ -48,9 +58,13 @@ from server.tables import TableRecord
 
 #: Largest request body accepted (bytes): an intent is a few hundred.
 MAX_BODY = 16 * 1024
+#: Largest claim body (bytes): a long game's record (rules.record.MAX_INPUTS inputs).
+MAX_RECORD_BODY = 1024 * 1024
 #: Seconds between two quick messages of one player at one table.
 CHAT_INTERVAL = 2.0
 TABLE_ID = r"{table:[0-9a-f]{20}}"
+GAME = r"{game:nineball|eightball|snooker|three_cushion}"
+NAME = r"{name:[A-Za-z0-9_. \-]{1,24}}"
 
 M = TypeVar("M", bound=BaseModel)
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
@@ -66,6 +80,7 @@ class Route:
     body: type[BaseModel] | None = None
     auth: bool = True
     refusals: tuple[ErrorCode, ...] = field(default=())
+    max_body: int = MAX_BODY
 
 
 def service_of(request: web.Request) -> Service:
@@ -84,19 +99,48 @@ def refusal(error: ServiceError) -> web.Response:
     )
 
 
-async def parse(request: web.Request, model: type[M]) -> M:
+async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> M:
     """The request's body as `model`; ServiceError for anything else."""
     if media_type(request.content_type) != JSON:
         raise ServiceError(ErrorCode.UNSUPPORTED_MEDIA_TYPE, "send application/json")
-    data = await request.content.read(MAX_BODY + 1)
-    if len(data) > MAX_BODY:
-        raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies are at most {MAX_BODY} bytes")
+    data = bytearray()
+    while chunk := await request.content.read(limit + 1 - len(data)):
+        data += chunk
+        if len(data) > limit:
+            raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies here are at most {limit} bytes")
     try:
-        return model.model_validate_json(data)
+        return model.model_validate_json(canonical_json(bytes(data)), strict=True)
     except ValidationError as error:
         first = error.errors()[0]
         where = ".".join(str(part) for part in first["loc"]) or "body"
-        raise ServiceError(ErrorCode.BAD_REQUEST, f"{where}: {first['msg']}") from None
+        # A model's own check (a miscue: |(a, b)| > 0.5) refuses a well-formed body: the
+        # rules' refusal, not a malformed request.
+        code = ErrorCode.ILLEGAL_INPUT if first["type"] == "value_error" else ErrorCode.BAD_REQUEST
+        raise ServiceError(code, f"{where}: {first['msg']}") from None
+
+
+def _number(text: str) -> int | float:
+    """A JSON number: finite, and an integer when it has no fraction (8.0 is 8 in JSON Schema;
+    strict validation then takes it for an int field and, as 8, for a float field)."""
+    value = float(text)
+    if not math.isfinite(value):
+        raise ServiceError(ErrorCode.BAD_REQUEST, f"number {text[:20]} is out of range")
+    return int(value) if value.is_integer() and abs(value) < 2**63 else value
+
+
+def _no_constant(name: str) -> None:
+    raise ServiceError(ErrorCode.BAD_REQUEST, f"{name} is not a JSON number")
+
+
+def canonical_json(data: bytes) -> str:
+    """The body re-encoded with integral numbers as integers; BAD_REQUEST for what is not
+    JSON (NaN, infinities, invalid text, nesting too deep for a parser)."""
+    try:
+        value = json.loads(data, parse_float=_number, parse_constant=_no_constant)
+    except (ValueError, RecursionError) as error:
+        reason = "too deeply nested" if isinstance(error, RecursionError) else str(error)
+        raise ServiceError(ErrorCode.BAD_REQUEST, f"body is not JSON: {reason}") from None
+    return json.dumps(value, separators=(",", ":"))
 
 
 async def player_of(request: web.Request) -> PlayerInfo:
@@ -123,6 +167,18 @@ async def register(request: web.Request) -> web.Response:
 
 async def me(request: web.Request) -> web.Response:
     return answer(await player_of(request))
+
+
+async def player_ratings(request: web.Request) -> web.Response:
+    storage = service_of(request).storage
+    player = await storage.get_player(request.match_info["player"])
+    if player is None:
+        raise ServiceError(ErrorCode.NOT_FOUND, "no such player")
+    views = {
+        game: RatingView(**rating.model_dump(), provisional=rating.provisional)
+        for game, rating in (await storage.ratings(player.id)).items()
+    }
+    return answer(PlayerRatings(player=player, ratings=views))
 
 
 # ----- tables ---------------------------------------------------------------------------------
@@ -287,6 +343,31 @@ async def quick_message(request: web.Request) -> web.Response:
     return answer(message, 201)
 
 
+# ----- replays and the leaderboard -------------------------------------------------------------
+async def get_replay(request: web.Request) -> web.Response:
+    replay = await service_of(request).storage.get_replay(request.match_info["replay"])
+    if replay is None:
+        raise ServiceError(ErrorCode.NOT_FOUND, "no such replay")
+    return answer(replay)
+
+
+async def leaderboard(request: web.Request) -> web.Response:
+    return answer(await service_of(request).breaks.top(request.match_info["game"]))
+
+
+async def best_break(request: web.Request) -> web.Response:
+    game, name = request.match_info["game"], request.match_info["name"]
+    entry = await service_of(request).storage.best_break(game, name)
+    if entry is None:
+        raise ServiceError(ErrorCode.NOT_FOUND, f"no {game} break under {name!r}")
+    return answer(entry)
+
+
+async def claim_break(request: web.Request) -> web.Response:
+    claim = await parse(request, ClaimRequest, MAX_RECORD_BODY)
+    return answer(await service_of(request).breaks.claim(claim), 201)
+
+
 # ----- quick match ----------------------------------------------------------------------------
 async def quick(request: web.Request) -> web.Response:
     player = await player_of(request)
@@ -311,6 +392,9 @@ ROUTES: tuple[Route, ...] = (
     Route("POST", "/api/players", register, "A guest identity and its token", {201: PlayerToken},
           PlayerCreate, auth=False, refusals=(ErrorCode.NAME_TAKEN,)),
     Route("GET", "/api/me", me, "The player a token names", {200: PlayerInfo}),
+    Route("GET", "/api/players/{player:p_[0-9a-f]{16}}/ratings", player_ratings,
+          "A player's rating in each game", {200: PlayerRatings}, auth=False,
+          refusals=(ErrorCode.NOT_FOUND,)),
     Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate),
     Route("GET", "/api/tables", list_tables, "Open and live public tables", {200: TableList},
           auth=False),
@@ -334,6 +418,17 @@ ROUTES: tuple[Route, ...] = (
           refusals=_TABLE_REFUSALS),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},
           QuickMessageRequest, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
+    Route("GET", "/api/replays/{replay:[0-9a-f]{24}}", get_replay, "A rack's replay",
+          {200: ReplayView}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
+    Route("GET", f"/api/leaderboard/{GAME}", leaderboard, "A game's highest breaks",
+          {200: Leaderboard}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
+    Route("GET", f"/api/leaderboard/{GAME}/players/{NAME}", best_break,
+          "A name's best break in a game", {200: BreakEntry}, auth=False,
+          refusals=(ErrorCode.NOT_FOUND,)),
+    Route("POST", "/api/leaderboard/claims", claim_break, "Claim a break from a game record",
+          {201: ClaimVerdict}, ClaimRequest, auth=False, max_body=MAX_RECORD_BODY,
+          refusals=(ErrorCode.ILLEGAL_INPUT, ErrorCode.CLAIM_MISMATCH, ErrorCode.DUPLICATE,
+                    ErrorCode.RATE_LIMITED)),
     Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest),
     Route("GET", "/api/quick", quick_status, "Where my quick match stands", {200: QuickStatus}),
     Route("DELETE", "/api/quick", quick_cancel, "Stop waiting", {200: QuickStatus}),

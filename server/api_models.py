@@ -10,18 +10,28 @@ from __future__ import annotations
 from enum import StrEnum
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, StringConstraints, field_validator
+from annotated_types import Interval
+from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
 from physics.trajectory import Event
 from rules.inputs import PlayerInput
 from rules.racks import GameName
+from rules.record import GameRecord
 from rules.state import Decision, Region, State
 from server.errors import ErrorCode
 
 #: The format version of channel messages; bumped when a client must change to read them.
 PROTOCOL = 1
-#: The shortest shot clock a table may have (s).
-MIN_SHOT_CLOCK = 10
+
+
+def json_int(low: int, high: int | None = None) -> object:
+    """An integer of a request in [low, high] (as JSON Schema bounds it)."""
+    return Annotated[int, Interval(ge=low, le=high)]
+
+
+#: Seconds per shot: 0 for no clock, else 10 to 300.
+ShotClock = json_int(0, 0) | json_int(10, 300)
+RaceTo = json_int(1, 15)
 
 _REQUEST = ConfigDict(frozen=True, extra="forbid")
 _ANSWER = ConfigDict(frozen=True)
@@ -102,14 +112,31 @@ class PlayerToken(BaseModel):
     expires_at: int = Field(description="unix time after which the token is refused")
 
 
+class RatingView(BaseModel):
+    """A Glicko-2 rating (server/ratings.py), provisional while its deviation exceeds 110."""
+
+    model_config = _ANSWER
+
+    rating: float
+    deviation: float
+    volatility: float
+    games: int
+    provisional: bool
+
+
+class PlayerRatings(BaseModel):
+    model_config = _ANSWER
+
+    player: PlayerInfo
+    ratings: dict[str, RatingView] = Field(description="by game; a game never played is absent")
+
+
 # ----- tables ---------------------------------------------------------------------------------
 class TableOptions(BaseModel):
     model_config = _REQUEST
 
-    race_to: Annotated[int, Field(ge=1, le=15)] = 1
-    shot_clock: Annotated[int, Field(ge=0, le=300)] = Field(
-        default=0, description="seconds per shot, 0: no clock (else at least 10)"
-    )
+    race_to: RaceTo = 1
+    shot_clock: ShotClock = Field(default=0, description="seconds per shot, 0: no clock")
     private: bool = False
 
 
@@ -118,17 +145,10 @@ class TableCreate(BaseModel):
 
     game: GameName
     mode: Mode = Mode.MATCH
-    race_to: Annotated[int, Field(ge=1, le=15)] = 1
-    shot_clock: Annotated[int, Field(ge=0, le=300)] = 0
+    race_to: RaceTo = 1
+    shot_clock: ShotClock = 0
     private: bool = False
     bot: BotName = BotName.PICKER
-
-    @field_validator("shot_clock")
-    @classmethod
-    def _clock_or_none(cls, seconds: int) -> int:
-        if 0 < seconds < MIN_SHOT_CLOCK:
-            raise ValueError(f"a shot clock is 0 (none) or at least {MIN_SHOT_CLOCK} s")
-        return seconds
 
     def options(self) -> TableOptions:
         return TableOptions(race_to=self.race_to, shot_clock=self.shot_clock, private=self.private)
@@ -208,7 +228,7 @@ class QuickStatus(BaseModel):
 class Intent(BaseModel):
     model_config = _REQUEST
 
-    version: Annotated[int, Field(ge=0)]
+    version: json_int(0)
     shot_id: ShotId
     input: PlayerInput
 
@@ -232,6 +252,83 @@ class QuickMessageRequest(BaseModel):
     model_config = _REQUEST
 
     message: QuickText
+
+
+# ----- replays and the leaderboard ------------------------------------------------------------
+ReplayId = Annotated[str, StringConstraints(pattern=r"^[0-9a-f]{24}$")]
+
+
+class Source(StrEnum):
+    MATCH = "match"
+    PRACTICE = "practice"
+    CLAIM = "claim"
+
+
+class ReplayView(BaseModel):
+    """One finished rack (or frame, or game) as a record anyone can replay."""
+
+    model_config = _ANSWER
+
+    id: ReplayId
+    url: str = Field(description="the replay's page")
+    table: TableId | None
+    rack: int
+    game: GameName
+    players: list[PlayerInfo | None] = Field(description="the record's player 0 (the breaker), 1")
+    best: tuple[int, int] = Field(description="each player's best break in it")
+    record: GameRecord
+    created: float
+
+
+class BreakEntry(BaseModel):
+    """One break on the leaderboard."""
+
+    model_config = _ANSWER
+
+    game: GameName
+    score: int
+    name: str
+    player: str | None = Field(default=None, description="the player's id (online breaks)")
+    replay: ReplayId | None = None
+    source: Source
+    at: float
+
+
+class Leaderboard(BaseModel):
+    model_config = _ANSWER
+
+    game: GameName
+    breaks: list[BreakEntry]
+
+
+class LeaderboardMessage(BaseModel):
+    """On `public-leaderboard`: a game's top breaks after a new entry."""
+
+    model_config = _ANSWER
+
+    kind: Literal["leaderboard"] = "leaderboard"
+    protocol: int = PROTOCOL
+    game: GameName
+    breaks: list[BreakEntry]
+
+
+class ClaimRequest(BaseModel):
+    """A break claimed from a game record (as `billiards selfplay --record` writes one)."""
+
+    model_config = _REQUEST
+
+    game: GameName = Field(description="the leaderboard the break is claimed on")
+    record: GameRecord
+    name: DisplayName
+    score: json_int(1, 10_000)
+
+
+class ClaimVerdict(BaseModel):
+    model_config = _ANSWER
+
+    accepted: bool
+    entry: BreakEntry
+    replay: ReplayView
 
 
 # ----- channel messages -----------------------------------------------------------------------
@@ -274,6 +371,7 @@ class OutcomeMessage(BaseModel):
     void: str | None = Field(
         default=None, description="why the accepted input could not be played (state unchanged)"
     )
+    replay: str | None = Field(default=None, description="the replay of the rack it ended")
 
 
 class TableMessage(BaseModel):

@@ -11,7 +11,13 @@ import argparse
 import importlib
 import sys
 
-REGISTRARS = ("physics.cli", "server.serve", "rules.cli", "physics.diagrams_cli")
+REGISTRARS = (
+    "physics.cli",
+    "server.serve",
+    "server.play_cli",
+    "rules.cli",
+    "physics.diagrams_cli",
+)
 
 
 def build_parser() -> argparse.ArgumentParser:

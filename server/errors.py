@@ -23,6 +23,8 @@ class ErrorCode(StrEnum):
     STALE_VERSION = "stale_version"
     WRONG_PHASE = "wrong_phase"
     ILLEGAL_INPUT = "illegal_input"
+    CLAIM_MISMATCH = "claim_mismatch"
+    DUPLICATE = "duplicate"
     RATE_LIMITED = "rate_limited"
     UNAVAILABLE = "unavailable"
 
@@ -41,6 +43,8 @@ STATUS: dict[ErrorCode, int] = {
     ErrorCode.STALE_VERSION: 409,
     ErrorCode.WRONG_PHASE: 409,
     ErrorCode.ILLEGAL_INPUT: 422,
+    ErrorCode.CLAIM_MISMATCH: 422,
+    ErrorCode.DUPLICATE: 409,
     ErrorCode.RATE_LIMITED: 429,
     ErrorCode.UNAVAILABLE: 503,
 }

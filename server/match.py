@@ -35,17 +35,21 @@ from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 
 from rules.inputs import Choice
-from server import refereeing, tables
+from server import ratings, refereeing, tables
 from server.api_models import (
     InputKind,
     Intent,
     IntentAccepted,
     IntentDuplicate,
+    Mode,
     PlayerInfo,
+    Status,
     TableMessage,
 )
 from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
+from server.leaderboard import Breaks
+from server.ratings import Rating
 from server.storage import AcceptResult, Storage
 from server.tables import InputEntry, TableRecord
 from server.workers import WorkerPool
@@ -72,6 +76,7 @@ class MatchContext:
     publisher: Publisher
     on_listing_change: Callable[[], None]
     replica: str
+    breaks: Breaks
 
 
 def duplicate(entry: InputEntry) -> IntentDuplicate:
@@ -206,12 +211,45 @@ class MatchOwner:
         except Exception as error:  # a bug in the engine or the referee: void, not stuck
             log.exception("table %s: refereeing %s failed", record.id, entry.shot_id)
             result = refereeing.Refereed(record.state, None, None, void=type(error).__name__)
-        after, outcome = tables.played(record, entry, result)
+        replay = None
+        if result.state.over:  # the rack ended: archive it before anyone hears of it
+            replay = await self._archive_rack(record, entry, result)
+        after, outcome = tables.played(record, entry, result, replay)
         stored = entry.model_copy(update={"outcome": outcome})
         if await context.storage.resolve(after, stored):
             await context.publisher.publish(record.channel, outcome)
-            if after.status is not record.status:
-                context.on_listing_change()
+            await self._status_changed(record, after)
+
+    async def _archive_rack(
+        self, record: TableRecord, last: InputEntry, result: refereeing.Refereed
+    ) -> str:
+        """Store the finished rack's replay and breaks; its replay id."""
+        earlier = [
+            e for e in await self._context.storage.inputs(record.id) if e.rack == record.rack
+        ]
+        decisions = [e.outcome.decision if e.outcome else None for e in earlier]
+        replay = await self._context.breaks.rack_finished(
+            record, [*earlier, last], [*decisions, result.decision], result.state
+        )
+        return replay.id
+
+    async def _status_changed(self, before: TableRecord, after: TableRecord) -> None:
+        """Tell the lobby, and rate a match between two people that has just been decided."""
+        if after.listed != before.listed or after.status is not before.status:
+            self._context.on_listing_change()
+        decided = before.status is Status.PLAYING and after.status is Status.OVER
+        if not decided or after.mode is not Mode.MATCH or after.winner is None:
+            return
+        people = [p for p in after.seats if p is not None and not tables.is_bot(p)]
+        if len(people) != 2:
+            return
+        storage = self._context.storage
+        current = [(await storage.ratings(p.id)).get(after.game, Rating()) for p in people]
+        winner = after.winner
+        won, lost = ratings.after_match(current[winner], current[1 - winner])
+        await storage.rate(
+            after.id, after.game, {people[winner].id: won, people[1 - winner].id: lost}
+        )
 
     async def _change(self, change: Change, done: asyncio.Future) -> None:
         try:
@@ -231,8 +269,7 @@ class MatchOwner:
         seen = await self._context.storage.heartbeats(after.id)
         message = TableMessage(version=after.version, view=tables.view(after, seen))
         await self._context.publisher.publish(after.channel, message)
-        if after.listed != record.listed or after.status is not record.status:
-            self._context.on_listing_change()
+        await self._status_changed(record, after)
         done.set_result(after)
         self._enqueue(self._look)
 
@@ -297,6 +334,7 @@ def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEn
         seat=seat,
         input=action,
         version=record.version,
+        rack=record.rack,
         accepted_at=time.time(),
     )
 

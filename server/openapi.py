@@ -14,12 +14,12 @@ from typing import Any
 from pydantic import BaseModel
 from pydantic.json_schema import models_json_schema
 
-from server.api import MAX_BODY, ROUTES, Route
+from server.api import ROUTES, Route
 from server.api_models import ApiError
 from server.errors import STATUS, ErrorCode
 
 _REF = "#/components/schemas/{model}"
-_PARAM = re.compile(r"\{(\w+):([^{}]*(?:\{\d+\}[^{}]*)*)\}")
+_PARAM = re.compile(r"\{(\w+):([^{}]*(?:\{\d+(?:,\d+)?\}[^{}]*)*)\}")
 
 
 def _ref(model: type[BaseModel]) -> dict[str, str]:
@@ -35,7 +35,7 @@ def _refusals(route: Route) -> dict[str, Any]:
     if route.auth:
         codes.add(ErrorCode.UNAUTHORIZED)
     if route.body is not None:
-        codes |= {ErrorCode.BAD_REQUEST, ErrorCode.BODY_TOO_LARGE}
+        codes |= {ErrorCode.BAD_REQUEST, ErrorCode.BODY_TOO_LARGE, ErrorCode.ILLEGAL_INPUT}
         codes.add(ErrorCode.UNSUPPORTED_MEDIA_TYPE)
     by_status: dict[int, list[str]] = {}
     for code in sorted(codes):
@@ -57,7 +57,7 @@ def _operation(route: Route) -> dict[str, Any]:
     if route.body is not None:
         operation["requestBody"] = {
             "required": True,
-            "description": f"at most {MAX_BODY} bytes",
+            "description": f"at most {route.max_body} bytes",
             "content": {"application/json": {"schema": _ref(route.body)}},
         }
     parameters = [
@@ -65,7 +65,7 @@ def _operation(route: Route) -> dict[str, Any]:
             "name": name,
             "in": "path",
             "required": True,
-            "schema": {"type": "string", "pattern": f"^{p}$"},
+            "schema": {"type": "string", "pattern": f"^(?:{p})$"},
         }
         for name, p in _PARAM.findall(route.path)
     ]

@@ -16,6 +16,7 @@ from rules.game import REFEREES, Setup, choose, play, shot_position, start
 from rules.inputs import Choice, PlayerInput, Shot, Strike
 from rules.pickers import pick
 from rules.racks import GameName
+from rules.record import GameRecord, replay
 from rules.spots import in_region, is_free
 from rules.state import Decision, RuleError, State
 from server.api_models import InputKind, Trajectory, WireSegment
@@ -29,12 +30,14 @@ __all__ = [
     "Refereed",
     "RuleError",
     "bot_input",
+    "breaker_of",
     "check",
     "constraints",
     "new_rack",
     "referee",
     "rule_code",
     "timeout_input",
+    "verify",
 ]
 
 
@@ -52,8 +55,20 @@ class Refereed:
     void: str | None = None
 
 
+def breaker_of(game: GameName, breaker: int) -> int:
+    """Who really breaks when `breaker` should: in three-cushion each player's cue ball is
+    fixed by the rack (the breaker's white), so the rules' player 0 always breaks there."""
+    return 0 if game == "three_cushion" else breaker
+
+
 def new_rack(game: GameName, seed: int, breaker: int) -> State:
-    """The opening position of a rack, with `breaker` (a seat) to play the break."""
+    """The opening position of a rack, with `breaker` (a seat) to play the break.
+
+    The rules' player 0 breaks their racks; starting with `turn = breaker` makes seat 1 the
+    referee's breaker with everything else the same (pool's and snooker's rules treat both
+    players alike), so a rack's record replays with the players' numbers swapped.
+    """
+    breaker = breaker_of(game, breaker)
     return start(Setup(game=game, seed=seed)).model_copy(update={"turn": breaker})
 
 
@@ -140,6 +155,51 @@ def timeout_input(state: State) -> PlayerInput:
     heading = math.degrees(math.atan2(at[1] - nearest[1], at[0] - nearest[0])) % 360.0
     strike = Strike(ball=cue, speed=TIMEOUT_SPEED, heading=round(heading, 4))
     return Shot(strike=strike, place=place)
+
+
+def rack_record(game: GameName, seed: int, inputs: list[PlayerInput]) -> GameRecord:
+    """The game record of one rack as the rules replay it (their player 0 breaks)."""
+    return GameRecord(setup=Setup(game=game, seed=seed), inputs=inputs)
+
+
+def best_visits(game: GameName, decisions: list[Decision | None], final: State) -> tuple[int, int]:
+    """Each player's best break of a rack: snooker's break and three-cushion's run as the
+    referee counts them (`State.best`), pool's balls pocketed in one visit without a foul."""
+    if game in ("snooker", "three_cushion"):
+        return final.best
+    best, visit, visitor = [0, 0], 0, None
+    for decision in decisions:
+        if decision is None:
+            continue
+        if decision.player != visitor:
+            visit, visitor = 0, decision.player
+        visit = 0 if decision.fouls else visit + len(decision.pocketed)
+        best[visitor] = max(best[visitor], visit)
+        if decision.next_player != visitor or decision.fouls:
+            visitor = None
+    return best[0], best[1]
+
+
+@dataclass(frozen=True, slots=True)
+class Verified:
+    """A replayed record: its game, each player's best break, and its inputs."""
+
+    game: GameName
+    best: tuple[int, int]
+    inputs: int
+
+
+def verify(record_json: bytes) -> Verified:
+    """Replay and re-referee a submitted record (run in a worker process).
+
+    Raises RuleError for a record that does not replay (an illegal or out-of-bounds input, an
+    engine version this server does not run) and ValueError for one that does not parse.
+    """
+    record = GameRecord.from_json(record_json)
+    played = replay(record)
+    decisions = [step.decision for step in played.steps]
+    best = best_visits(record.setup.game, decisions, played.final)
+    return Verified(game=record.setup.game, best=best, inputs=len(record.inputs))
 
 
 def bot_input(state: State) -> PlayerInput:

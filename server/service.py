@@ -16,6 +16,7 @@ from server.api_models import PresenceMessage
 from server.channels import Publisher
 from server.clock import running_clock
 from server.identity import Identity
+from server.leaderboard import Breaks
 from server.lobby import Lobby
 from server.match import MatchContext, Matches, new_replica_id
 from server.relay.relay import Relay
@@ -29,6 +30,7 @@ class Service:
     pool: WorkerPool
     publisher: Publisher
     identity: Identity
+    breaks: Breaks
     lobby: Lobby
     matches: Matches
     #: The presence each table last announced from this process (to announce changes once).
@@ -56,12 +58,14 @@ async def running_service(
     pool = WorkerPool(workers or default_workers())
     publisher = Publisher(relay)
     lobby = Lobby(storage, publisher)
-    context = MatchContext(storage, pool, publisher, lobby.changed, new_replica_id())
+    breaks = Breaks(storage, pool, publisher)
+    context = MatchContext(storage, pool, publisher, lobby.changed, new_replica_id(), breaks)
     service = Service(
         storage=storage,
         pool=pool,
         publisher=publisher,
         identity=Identity(relay.authority, storage),
+        breaks=breaks,
         lobby=lobby,
         matches=Matches(context),
     )

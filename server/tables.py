@@ -45,6 +45,7 @@ class InputEntry(BaseModel):
     seat: int
     input: PlayerInput
     version: int = Field(description="the table version the input was accepted at")
+    rack: int = Field(default=1, description="the rack it was played in")
     accepted_at: float
     replica: str = Field(default="", description="the server process that accepted it")
     outcome: OutcomeMessage | None = None
@@ -237,7 +238,10 @@ def view(
 
 
 def played(
-    record: TableRecord, entry: InputEntry, result: refereeing.Refereed
+    record: TableRecord,
+    entry: InputEntry,
+    result: refereeing.Refereed,
+    replay: str | None = None,
 ) -> tuple[TableRecord, OutcomeMessage]:
     """The table after an accepted input was played, and the outcome that announces it.
 
@@ -255,6 +259,7 @@ def played(
                 status, winner = Status.OVER, state.winner
         if status is Status.PLAYING:
             rack, breaker = rack + 1, 1 - breaker if record.mode is not Mode.PRACTICE else 0
+            breaker = refereeing.breaker_of(record.game, breaker)
             state = refereeing.new_rack(record.game, record.seed + rack, breaker)
     after = bump(
         record,
@@ -281,5 +286,6 @@ def played(
         status=after.status,
         winner=after.winner,
         void=result.void,
+        replay=replay,
     )
     return after.model_copy(update={"last_outcome": outcome}), outcome

@@ -60,5 +60,8 @@ class WorkerPool:
     async def bot_input(self, state: State) -> PlayerInput:
         return await self._run(refereeing.bot_input, state)
 
+    async def verify(self, record_json: bytes) -> refereeing.Verified:
+        return await self._run(refereeing.verify, record_json)
+
     def close(self) -> None:
         self._executor.shutdown(wait=True, cancel_futures=True)

@@ -30,7 +30,11 @@ What a backend must guarantee
    `online_players` counts unexpired claims.
 8. **Heartbeats** are kept per table and seat, outside the versioned record: a heartbeat
    never conflicts with an input.
-9. **Atomic pairing.** `pair` either takes one other player waiting for the same game off the
+9. **Ratings once per match.** `rate` stores a table's rating changes at most once, however
+   many replicas report the same finished match.
+10. **Breaks once.** `add_break` stores an entry at most once per key, atomically with the
+    rankings `top_breaks` and `best_break` read.
+11. **Atomic pairing.** `pair` either takes one other player waiting for the same game off the
    queue and records both as paired at the given table (returning the partner), or queues the
    caller; a player is in at most one queue once, never paired twice by one call sequence,
    and never paired with itself. `quick_status` and `cancel_quick` read and leave the queue.
@@ -42,7 +46,8 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from enum import StrEnum
 
-from server.api_models import PlayerInfo, QuickStatus
+from server.api_models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
+from server.ratings import Rating
 from server.tables import InputEntry, TableRecord
 
 
@@ -122,6 +127,36 @@ class Storage(ABC):
 
     @abstractmethod
     async def listed_tables(self, limit: int) -> list[TableRecord]: ...
+
+    # ----- ratings ----------------------------------------------------------------------
+    @abstractmethod
+    async def ratings(self, player_id: str) -> dict[str, Rating]:
+        """The player's rating in each game it has a rated match in."""
+
+    @abstractmethod
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
+        """Store new ratings for `game` once per table: False (nothing stored) if this table's
+        result was already rated."""
+
+    # ----- replays and the leaderboard ---------------------------------------------------
+    @abstractmethod
+    async def add_replay(self, replay: ReplayView) -> None: ...
+
+    @abstractmethod
+    async def get_replay(self, replay_id: str) -> ReplayView | None: ...
+
+    @abstractmethod
+    async def add_break(self, entry: BreakEntry, key: str) -> bool:
+        """Add a break under a unique `key` (a rack's seat, a claimed record's digest); False
+        (nothing stored) if the key was used before."""
+
+    @abstractmethod
+    async def top_breaks(self, game: str, limit: int) -> list[BreakEntry]:
+        """The highest breaks of a game, highest first."""
+
+    @abstractmethod
+    async def best_break(self, game: str, name: str) -> BreakEntry | None:
+        """The highest break of a game under a name."""
 
     # ----- quick match ------------------------------------------------------------------
     @abstractmethod

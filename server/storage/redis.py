@@ -8,6 +8,9 @@ replica sends it. Keys, all prefixed `game:`:
 - `h:{id}` the heartbeats of its seats; `listed` a sorted set of listed tables by creation;
   `deadlines` a sorted set of tables by shot-clock deadline;
 - `p:{id}` players; `n:{key}` name claims (expiring) and `online` the claims by expiry;
+- `r:{player}` a hash game -> rating, `rated` the set of tables whose result was rated;
+- `rp:{id}` replays; `bk` the set of break keys, `be` a hash key -> break, `lb:{game}` a
+  sorted set of a game's breaks by score, `lbn:{game}` a hash name -> key of its best break;
 - `q:{game}` the quick-match queues and `qs:{player}` each player's quick-match status.
 """
 
@@ -16,7 +19,8 @@ from __future__ import annotations
 import redis.asyncio as aioredis
 from redis.exceptions import RedisError
 
-from server.api_models import PlayerInfo, QuickStatus
+from server.api_models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
+from server.ratings import Rating
 from server.storage import (
     Accepted,
     AcceptResult,
@@ -100,6 +104,27 @@ redis.call('SET', KEYS[2], ARGV[2])
 return false
 """
 
+# KEYS: rated set, then one ratings hash per player. ARGV: table id, game, then one rating
+# document per player.
+_RATE = """
+if redis.call('SADD', KEYS[1], ARGV[1]) == 0 then return 0 end
+for i = 2, #KEYS do redis.call('HSET', KEYS[i], ARGV[2], ARGV[i + 1]) end
+return 1
+"""
+
+# KEYS: keys set, entries hash, game's ranking, game's best by name. ARGV: key, entry, score,
+# name.
+_ADD_BREAK = """
+if redis.call('SADD', KEYS[1], ARGV[1]) == 0 then return 0 end
+redis.call('HSET', KEYS[2], ARGV[1], ARGV[2])
+redis.call('ZADD', KEYS[3], ARGV[3], ARGV[1])
+local best = redis.call('HGET', KEYS[4], ARGV[4])
+if not best or tonumber(redis.call('ZSCORE', KEYS[3], best)) < tonumber(ARGV[3]) then
+  redis.call('HSET', KEYS[4], ARGV[4], ARGV[1])
+end
+return 1
+"""
+
 # KEYS: caller's status. ARGV: player.
 _CANCEL = """
 local status = redis.call('GET', KEYS[1])
@@ -119,6 +144,8 @@ class RedisStorage(Storage):
         self._claim = self._redis.register_script(_CLAIM)
         self._pair = self._redis.register_script(_PAIR)
         self._cancel = self._redis.register_script(_CANCEL)
+        self._rate = self._redis.register_script(_RATE)
+        self._add_break = self._redis.register_script(_ADD_BREAK)
 
     @classmethod
     async def open(cls, url: str) -> RedisStorage:
@@ -231,6 +258,41 @@ class RedisStorage(Storage):
                 pipe.hget(f"{P}t:{table_id}", "doc")
             docs = await pipe.execute()
         return [TableRecord.model_validate_json(doc) for doc in docs if doc]
+
+    # ----- ratings ----------------------------------------------------------------------
+    async def ratings(self, player_id: str) -> dict[str, Rating]:
+        docs = await self._redis.hgetall(f"{P}r:{player_id}")
+        return {game: Rating.model_validate_json(doc) for game, doc in docs.items()}
+
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
+        keys = [f"{P}rated", *(f"{P}r:{player}" for player in ratings)]
+        args = [table_id, game, *(rating.model_dump_json() for rating in ratings.values())]
+        return bool(await self._rate(keys=keys, args=args))
+
+    # ----- replays and the leaderboard ---------------------------------------------------
+    async def add_replay(self, replay: ReplayView) -> None:
+        await self._redis.set(f"{P}rp:{replay.id}", replay.model_dump_json())
+
+    async def get_replay(self, replay_id: str) -> ReplayView | None:
+        doc = await self._redis.get(f"{P}rp:{replay_id}")
+        return ReplayView.model_validate_json(doc) if doc else None
+
+    async def add_break(self, entry: BreakEntry, key: str) -> bool:
+        keys = [f"{P}bk", f"{P}be", f"{P}lb:{entry.game}", f"{P}lbn:{entry.game}"]
+        args = [key, entry.model_dump_json(), entry.score, entry.name]
+        return bool(await self._add_break(keys=keys, args=args))
+
+    async def top_breaks(self, game: str, limit: int) -> list[BreakEntry]:
+        ranked = await self._redis.zrevrange(f"{P}lb:{game}", 0, limit - 1)
+        if not ranked:
+            return []
+        docs = await self._redis.hmget(f"{P}be", ranked)
+        return [BreakEntry.model_validate_json(doc) for doc in docs if doc]
+
+    async def best_break(self, game: str, name: str) -> BreakEntry | None:
+        key = await self._redis.hget(f"{P}lbn:{game}", name)
+        doc = await self._redis.hget(f"{P}be", key) if key else None
+        return BreakEntry.model_validate_json(doc) if doc else None
 
     # ----- quick match ------------------------------------------------------------------
     async def pair(self, game: str, player_id: str, table_id: str) -> str | None:

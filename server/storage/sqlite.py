@@ -17,7 +17,8 @@ from pathlib import Path
 
 import aiosqlite
 
-from server.api_models import PlayerInfo, QuickStatus
+from server.api_models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
+from server.ratings import Rating
 from server.storage import (
     Accepted,
     AcceptResult,
@@ -42,6 +43,14 @@ CREATE TABLE IF NOT EXISTS inputs (
 CREATE TABLE IF NOT EXISTS heartbeats (
     table_id TEXT NOT NULL, seat INTEGER NOT NULL, seen REAL NOT NULL,
     PRIMARY KEY (table_id, seat));
+CREATE TABLE IF NOT EXISTS ratings (
+    player TEXT NOT NULL, game TEXT NOT NULL, doc TEXT NOT NULL, PRIMARY KEY (player, game));
+CREATE TABLE IF NOT EXISTS rated (table_id TEXT PRIMARY KEY);
+CREATE TABLE IF NOT EXISTS replays (id TEXT PRIMARY KEY, doc TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS breaks (
+    key TEXT PRIMARY KEY, game TEXT NOT NULL, score INTEGER NOT NULL, name TEXT NOT NULL,
+    at REAL NOT NULL, doc TEXT NOT NULL);
+CREATE INDEX IF NOT EXISTS breaks_rank ON breaks (game, score DESC, at);
 CREATE TABLE IF NOT EXISTS quick (
     player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL);
 """
@@ -237,6 +246,71 @@ class SqliteStorage(Storage):
         ):
             rows = await cursor.fetchall()
         return [TableRecord.model_validate_json(row[0]) for row in rows]
+
+    # ----- ratings ----------------------------------------------------------------------
+    async def ratings(self, player_id: str) -> dict[str, Rating]:
+        async with (
+            self._lock,
+            self._db.execute(
+                "SELECT game, doc FROM ratings WHERE player = ?", (player_id,)
+            ) as cursor,
+        ):
+            rows = await cursor.fetchall()
+        return {game: Rating.model_validate_json(doc) for game, doc in rows}
+
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
+        async with self._transaction() as db:
+            try:
+                await db.execute("INSERT INTO rated VALUES (?)", (table_id,))
+            except aiosqlite.IntegrityError:
+                return False
+            for player, rating in ratings.items():
+                await db.execute(
+                    "INSERT OR REPLACE INTO ratings VALUES (?, ?, ?)",
+                    (player, game, rating.model_dump_json()),
+                )
+            return True
+
+    # ----- replays and the leaderboard ---------------------------------------------------
+    async def add_replay(self, replay: ReplayView) -> None:
+        async with self._transaction() as db:
+            await db.execute(
+                "INSERT INTO replays VALUES (?, ?)", (replay.id, replay.model_dump_json())
+            )
+
+    async def get_replay(self, replay_id: str) -> ReplayView | None:
+        row = await self._one("SELECT doc FROM replays WHERE id = ?", replay_id)
+        return ReplayView.model_validate_json(row[0]) if row else None
+
+    async def add_break(self, entry: BreakEntry, key: str) -> bool:
+        async with self._transaction() as db:
+            try:
+                await db.execute(
+                    "INSERT INTO breaks VALUES (?, ?, ?, ?, ?, ?)",
+                    (key, entry.game, entry.score, entry.name, entry.at, entry.model_dump_json()),
+                )
+            except aiosqlite.IntegrityError:
+                return False
+            return True
+
+    async def top_breaks(self, game: str, limit: int) -> list[BreakEntry]:
+        async with (
+            self._lock,
+            self._db.execute(
+                "SELECT doc FROM breaks WHERE game = ? ORDER BY score DESC, at LIMIT ?",
+                (game, limit),
+            ) as cursor,
+        ):
+            rows = await cursor.fetchall()
+        return [BreakEntry.model_validate_json(row[0]) for row in rows]
+
+    async def best_break(self, game: str, name: str) -> BreakEntry | None:
+        row = await self._one(
+            "SELECT doc FROM breaks WHERE game = ? AND name = ? ORDER BY score DESC, at LIMIT 1",
+            game,
+            name,
+        )
+        return BreakEntry.model_validate_json(row[0]) if row else None
 
     # ----- quick match ------------------------------------------------------------------
     async def pair(self, game: str, player_id: str, table_id: str) -> str | None:

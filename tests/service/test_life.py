@@ -121,3 +121,16 @@ async def test_names_are_unique_among_players_online(server: TestClient) -> None
     for bad in ("", " Ada", "<b>x</b>", "x" * 25, "a\nb"):
         response = await server.post("/api/players", json={"name": bad})
         assert response.status == 400, bad
+
+
+async def test_a_decided_match_between_two_people_is_rated_once(server: TestClient) -> None:
+    ada, bob, view = await seated_match(server)
+    path = f"/api/players/{ada.info['id']}/ratings"
+    assert (await (await server.get(path)).json())["ratings"] == {}
+    await bob.call("POST", f"/api/tables/{view['id']}/resign", expect=200)
+    await service_of(server).matches.idle()
+    won = (await (await server.get(path)).json())["ratings"]["nineball"]
+    lost = await (await server.get(f"/api/players/{bob.info['id']}/ratings")).json()
+    assert won["rating"] > 1500 > lost["ratings"]["nineball"]["rating"]
+    assert won["games"] == 1 and won["provisional"]
+    assert (await server.get("/api/players/p_0000000000000000/ratings")).status == 404

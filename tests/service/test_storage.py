@@ -8,6 +8,7 @@ import time
 import pytest
 
 from rules.inputs import Choice
+from server.ratings import Rating
 from server.storage import AcceptResult, Storage
 from server.tables import InputEntry, TableRecord, bump, join
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
@@ -149,3 +150,14 @@ async def test_heartbeats_are_kept_per_seat_beside_the_record(storage: Storage) 
     await storage.heartbeat(record.id, 1, 1235.25)
     assert await storage.heartbeats(record.id) == (None, 1235.25)
     assert await storage.update(join(record, BOB))  # the version did not move
+
+
+async def test_a_match_is_rated_once(open_storage: OpenStorage) -> None:
+    stores = [await open_storage() for _ in range(3)]
+    new = {"p_ada": Rating(rating=1600, games=1), "p_bob": Rating(rating=1400, games=1)}
+    applied = await asyncio.gather(*(s.rate("t" * 20, "snooker", new) for s in stores))
+    assert sorted(applied) == [False, False, True]
+    assert await stores[1].ratings("p_ada") == {"snooker": new["p_ada"]}
+    assert not await stores[0].rate("t" * 20, "snooker", {"p_ada": Rating(rating=9)})
+    assert (await stores[0].ratings("p_ada"))["snooker"].rating == 1600
+    assert await stores[0].ratings("p_nobody") == {}

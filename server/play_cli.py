@@ -1,0 +1,198 @@
+"""`billiards play`, `watch` and `submit`: a match, a table's outcomes, a claimed break.
+
+Both talk to a server only through its public API (server/client.py). `play` registers a
+guest, gets a table (quick match, a new table, a private link, practice or the bot), then
+plays every shot its seat is to play with a shot chooser (`--bot picker`: the rules' shot
+pickers) and prints each outcome as it arrives, one line each, until the match is over.
+`submit` sends a game record (as `billiards selfplay --record` writes it), a name and the
+claimed score to the leaderboard, and prints the verdict. Exit status 0 on success, 2 with one
+line when the server refused something (a claim that does not hold says why).
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import secrets
+import sys
+from collections.abc import Awaitable, Callable
+from typing import TYPE_CHECKING
+
+from server.api_models import OutcomeMessage, Status, TableView
+
+if TYPE_CHECKING:
+    from server.client import GameClient
+
+CHOOSERS = ("picker",)
+
+
+def outcome_line(change: TableView | OutcomeMessage, names: list[str]) -> str:
+    """One line per change: the version, who acted and what the referee ruled."""
+    if isinstance(change, TableView):
+        return f"v{change.version:<4} table {change.status.value}: " + " vs ".join(names)
+    who = names[change.seat]
+    if change.void:
+        return f"v{change.version:<4} {who}: not played ({change.void})"
+    if change.decision is None:
+        return f"v{change.version:<4} {who}: chose {change.input.option}"  # type: ignore[union-attr]
+    line = f"v{change.version:<4} {who}: {change.decision.line()}"
+    if change.status is Status.OVER:
+        line += f" -- match over, {names[change.winner]} wins"
+    return line
+
+
+def names_of(view: TableView) -> list[str]:
+    return [seat.name if seat else "(empty)" for seat in view.seats]
+
+
+async def _open_table(client: GameClient, args: argparse.Namespace) -> TableView:
+    if args.join:
+        from server.client import table_id_of
+
+        return await client.join(table_id_of(args.join))
+    if args.practice:
+        return await client.create(args.game, mode="practice")
+    if args.vs_bot:
+        return await client.create(args.game, mode="bot")
+    if args.create:
+        view = await client.create(args.game, private=args.private)
+        print(f"waiting for an opponent: {client.base}/t/{view.id}", flush=True)
+        return view
+    status = await client.quick(args.game)
+    table_id = status.table if status.status == "paired" else await client.wait_paired()
+    return await client.table(table_id)
+
+
+async def _shoot_if_mine(
+    client: GameClient, view_id: str, change: TableView | OutcomeMessage
+) -> None:
+    from server import refereeing
+    from server.client import Refused
+
+    nxt = change.next
+    if nxt is None or nxt.player != client.player.id:
+        return
+    action = refereeing.bot_input(change.state)
+    try:
+        await client.send(view_id, change.version, action.model_dump(mode="json"))
+    except Refused as refusal:
+        if refusal.code != "stale_version":  # stale: the feed will bring the newer state
+            raise
+
+
+async def play(args: argparse.Namespace) -> int:
+    import aiohttp
+
+    from server.client import GameClient
+
+    async with aiohttp.ClientSession() as session:
+        client = GameClient(args.url, session)
+        await client.register(args.name or f"cli-{secrets.token_hex(3)}")
+        view = await _open_table(client, args)
+        print(f"table {view.id}: {view.game}, you are {client.player.name}", flush=True)
+        names = names_of(view)
+        await _shoot_if_mine(client, view.id, view)
+        async for change in client.follow(view):
+            if isinstance(change, TableView):
+                names = names_of(change)
+            print(outcome_line(change, names), flush=True)
+            if change.status in (Status.OVER, Status.CANCELLED):
+                return 0
+            await _shoot_if_mine(client, view.id, change)
+    return 0
+
+
+async def watch(args: argparse.Namespace) -> int:
+    import aiohttp
+
+    from server.client import GameClient, table_id_of
+
+    async with aiohttp.ClientSession() as session:
+        client = GameClient(args.url, session)
+        view = await client.table(table_id_of(args.table))
+        names = names_of(view)
+        print(outcome_line(view, names), flush=True)
+        if view.status in (Status.OVER, Status.CANCELLED):
+            return 0
+        async for change in client.follow(view):
+            if isinstance(change, TableView):
+                names = names_of(change)
+            print(outcome_line(change, names), flush=True)
+            if change.status in (Status.OVER, Status.CANCELLED):
+                return 0
+    return 0
+
+
+async def submit(args: argparse.Namespace) -> int:
+    """Claim a break from a game record file; print the server's verdict."""
+    import json
+    from pathlib import Path
+
+    import aiohttp
+
+    from server.api_models import ClaimVerdict
+    from server.client import GameClient, Refused
+
+    try:
+        record = json.loads(Path(args.record).read_text())
+        game = args.game or record["setup"]["game"]
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        raise Refused(0, "unreadable_record", f"{args.record}: {error}") from None
+    async with aiohttp.ClientSession() as session:
+        client = GameClient(args.url, session)
+        body = {"game": game, "record": record, "name": args.name, "score": args.score}
+        _, answer = await client.request("POST", "/api/leaderboard/claims", body)
+    verdict = ClaimVerdict.model_validate(answer)
+    entry = verdict.entry
+    print(
+        f"accepted: {entry.game} break of {entry.score} by {entry.name}, "
+        f"replay {client.base}{verdict.replay.url}"
+    )
+    return 0
+
+
+def _run(
+    command: Callable[[argparse.Namespace], Awaitable[int]],
+) -> Callable[[argparse.Namespace], int]:
+    from server.client import Refused
+
+    def handler(args: argparse.Namespace) -> int:
+        try:
+            return asyncio.run(command(args))
+        except Refused as refusal:
+            print(f"refused: {refusal.code}: {refusal.reason}", file=sys.stderr)
+            return 2
+        except OSError as error:
+            print(f"cannot reach {args.url}: {error}", file=sys.stderr)
+            return 2
+
+    return handler
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser("play", help="play a whole match against a server")
+    parser.add_argument("url", help="the server, e.g. http://127.0.0.1:8080")
+    parser.add_argument("game", choices=("nineball", "eightball", "snooker", "three_cushion"))
+    how = parser.add_mutually_exclusive_group()
+    how.add_argument("--quick", action="store_true", help="quick match (the default)")
+    how.add_argument("--create", action="store_true", help="open a table and wait")
+    how.add_argument("--join", metavar="LINK", help="join a table by its link or id")
+    how.add_argument("--practice", action="store_true", help="a solo practice table")
+    how.add_argument("--vs-bot", action="store_true", help="a table against the server's bot")
+    parser.add_argument("--private", action="store_true", help="with --create: not listed")
+    parser.add_argument("--bot", choices=CHOOSERS, default="picker", help="shot chooser")
+    parser.add_argument("--name", help="display name (default: cli-<random>)")
+    parser.set_defaults(func=_run(play))
+
+    parser = subparsers.add_parser("submit", help="claim a leaderboard break from a record")
+    parser.add_argument("url", help="the server, e.g. http://127.0.0.1:8080")
+    parser.add_argument("record", help="a game record file (billiards selfplay --record)")
+    parser.add_argument("--name", required=True, help="the name the break goes under")
+    parser.add_argument("--score", type=int, required=True, help="the claimed best break")
+    parser.add_argument("--game", help="the leaderboard (default: the record's game)")
+    parser.set_defaults(func=_run(submit))
+
+    parser = subparsers.add_parser("watch", help="print a table's outcomes as they come")
+    parser.add_argument("url", help="the server, e.g. http://127.0.0.1:8080")
+    parser.add_argument("table", help="the table's id or link")
+    parser.set_defaults(func=_run(watch))

@@ -1,0 +1,72 @@
+"""`billiards play`, `watch` and `submit` as processes against a running server."""
+
+from __future__ import annotations
+
+import asyncio
+import sys
+from pathlib import Path
+
+from aiohttp.test_utils import TestClient
+
+from rules.record import GameRecord, replay
+from server.refereeing import best_visits
+from tests.service.conftest import WAIT_S
+
+BILLIARDS = [sys.executable, "-m", "server.cli"]
+
+
+async def run(*args: str) -> asyncio.subprocess.Process:
+    return await asyncio.create_subprocess_exec(
+        *BILLIARDS, *args, stdout=asyncio.subprocess.PIPE, stderr=asyncio.subprocess.PIPE
+    )
+
+
+async def finish(process: asyncio.subprocess.Process) -> tuple[int, list[str], str]:
+    out, err = await asyncio.wait_for(process.communicate(), 4 * WAIT_S)
+    return process.returncode, out.decode().splitlines(), err.decode()
+
+
+async def test_two_command_line_players_play_a_match_and_a_watcher_sees_it(
+    server: TestClient,
+) -> None:
+    url = str(server.make_url("")).rstrip("/")
+    ada = await run("play", url, "nineball", "--quick", "--name", "Ada")
+    bob = await run("play", url, "nineball", "--quick", "--name", "Bob")
+    (code_a, lines_a, err_a), (code_b, lines_b, err_b) = await asyncio.gather(
+        finish(ada), finish(bob)
+    )
+    assert (code_a, code_b) == (0, 0), err_a + err_b
+    assert lines_a[-1] == lines_b[-1] and "match over" in lines_a[-1]
+    table = lines_a[0].split()[1].rstrip(":")
+    code, lines, _ = await finish(await run("watch", url, f"{url}/t/{table}"))
+    assert code == 0 and lines[0].startswith(f"v{lines_a[-1].split()[0][1:]}")
+
+
+async def test_a_refusal_exits_2_with_one_line(server: TestClient) -> None:
+    url = str(server.make_url("")).rstrip("/")
+    code, _, err = await finish(await run("play", url, "nineball", "--join", "f" * 20))
+    assert code == 2 and err.strip() == "refused: not_found: no such table"
+    code, _, err = await finish(await run("watch", "http://127.0.0.1:1", "f" * 20))
+    assert code == 2 and len(err.strip().splitlines()) == 1
+
+
+async def test_submit_prints_the_verdict_or_the_reason(server: TestClient, tmp_path: Path) -> None:
+    url = str(server.make_url("")).rstrip("/")
+    record_path = tmp_path / "game.json"
+    for seed in range(1, 30):
+        code, _, err = await finish(
+            await run("selfplay", "nineball", "--seed", str(seed), "--record", str(record_path))
+        )
+        assert code == 0, err
+        record = GameRecord.from_json(record_path.read_text())
+        played = replay(record)
+        best = max(best_visits("nineball", [s.decision for s in played.steps], played.final))
+        if best > 0:
+            break
+    args = ("submit", url, str(record_path), "--name", "Cy")
+    code, _, err = await finish(await run(*args, "--score", str(best + 1)))
+    assert code == 2 and err.strip() == (
+        f"refused: claim_mismatch: the record's best break is {best}, not {best + 1}"
+    )
+    code, lines, _ = await finish(await run(*args, "--score", str(best)))
+    assert code == 0 and lines[0].startswith(f"accepted: nineball break of {best} by Cy")
