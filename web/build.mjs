@@ -1,5 +1,6 @@
-// Bundles the client into dist/: one ES module per page (shared code split into chunks), the
-// pages' HTML and CSS, and a .gz beside every file for aiohttp to serve precompressed.
+// Bundles the client into dist/: one ES module per page (shared code split into chunks), each
+// page's HTML (pages/layout.html around pages/NAME.html), the CSS, and a .gz beside every file
+// for aiohttp to serve precompressed.
 // Run by `bash dev.sh serve|test` through `npm run build`; the output is not committed.
 import { build } from "esbuild";
 import { cpSync, mkdirSync, readdirSync, readFileSync, rmSync, statSync, writeFileSync } from "node:fs";
@@ -8,12 +9,19 @@ import { gzipSync } from "node:zlib";
 
 const here = new URL(".", import.meta.url).pathname;
 const out = join(here, "dist");
-const pages = ["home", "play", "replay", "leaderboard", "diagrams"];
+/** Each page: its title, body class and extra head lines. */
+const pages = {
+  home: { title: "billiards" },
+  play: { title: "billiards: table", body: "play-page" },
+  replay: { title: "billiards: replay", body: "play-page" },
+  leaderboard: { title: "billiards: leaderboard" },
+  diagrams: { title: "billiards: physics diagrams", head: '<link rel="stylesheet" href="/static/uPlot.min.css">' },
+};
 
 rmSync(out, { recursive: true, force: true });
 mkdirSync(out, { recursive: true });
 await build({
-  entryPoints: pages.map((p) => join(here, "src", "pages", `${p}.js`)),
+  entryPoints: Object.keys(pages).map((p) => join(here, "src", "pages", `${p}.js`)),
   bundle: true,
   splitting: true,
   format: "esm",
@@ -25,6 +33,11 @@ await build({
   logLevel: "warning",
 });
 cpSync(join(here, "static"), out, { recursive: true });
+const layout = readFileSync(join(here, "pages", "layout.html"), "utf8");
+for (const [page, { title, body = "", head = "" }] of Object.entries(pages)) {
+  const fill = { title, body, head, page, main: readFileSync(join(here, "pages", `${page}.html`), "utf8").trim() };
+  writeFileSync(join(out, `${page}.html`), layout.replace(/{{(\w+)}}/g, (_, key) => fill[key]));
+}
 cpSync(join(here, "node_modules", "uplot", "dist", "uPlot.min.css"), join(out, "uPlot.min.css"));
 
 function walk(dir) {
@@ -39,4 +52,4 @@ for (const file of walk(out)) {
   writeFileSync(`${file}.gz`, gz);
   total += gz.length;
 }
-console.log(`web/dist: ${pages.length} pages, ${(total / 1024).toFixed(1)} KiB gzipped in all`);
+console.log(`web/dist: ${Object.keys(pages).length} pages, ${(total / 1024).toFixed(1)} KiB gzipped in all`);

@@ -84,8 +84,10 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
     srv.stop()
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="module")
 def browser() -> Iterator[Browser]:
+    """One Chromium per test module. (Playwright's sync API keeps an event loop of its own while
+    it runs; stopped at the end of each e2e module, it never meets the suite's asyncio tests.)"""
     binary = shutil.which(CHROMIUM) or shutil.which("chromium")
     if binary is None:
         raise RuntimeError(

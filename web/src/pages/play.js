@@ -88,14 +88,7 @@ class PlayPage {
     const table = (await geometry)[view.game];
     document.title = `billiards: ${view.game}`;
     this.view3d = new TableView($("table"), table, view.game);
-    diagnostics.balls = () => {
-      const out = {};
-      for (const id of this.view3d.balls.keys()) {
-        const p = this.view3d.ballAt(id);
-        if (p) out[id] = p;
-      }
-      return out;
-    };
+    diagnostics.balls = () => this.view3d.drawnBalls();
     this.controls = new Controls(
       this.view3d,
       {

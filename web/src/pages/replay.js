@@ -42,14 +42,7 @@ class ReplayPage {
     this.playing = true;
     this.speed = 1;
     this.view3d = new TableView($("table"), table, view.game);
-    diagnostics.balls = () => {
-      const out = {};
-      for (const ball of this.view3d.balls.keys()) {
-        const p = this.view3d.ballAt(ball);
-        if (p) out[ball] = p;
-      }
-      return out;
-    };
+    diagnostics.balls = () => this.view3d.drawnBalls();
     const wanted = Number(new URLSearchParams(location.search).get("shot"));
     this.startAt = Number.isInteger(wanted) && wanted > 0 ? wanted - 1 : 0;
     this.bind();

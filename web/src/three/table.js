@@ -36,6 +36,17 @@ function layFlat(geometry, material, table, z = 0) {
   return mesh;
 }
 
+/** The table's outer edge: the playing surface with cushions and rails round it. */
+function outline(table) {
+  const m = CUSHION_WIDTH + RAIL_WIDTH;
+  return shapeOf([
+    [-m, -m],
+    [table.w + m, -m],
+    [table.w + m, table.l + m],
+    [-m, table.l + m],
+  ]);
+}
+
 function circlePath(cx, cy, r) {
   const path = new THREE.Path();
   path.absarc(cx, cy, r, 0, Math.PI * 2, true);
@@ -43,13 +54,7 @@ function circlePath(cx, cy, r) {
 }
 
 function cloth(table, colours) {
-  const m = CUSHION_WIDTH + RAIL_WIDTH;
-  const shape = shapeOf([
-    [-m, -m],
-    [table.w + m, -m],
-    [table.w + m, table.l + m],
-    [-m, table.l + m],
-  ]);
+  const shape = outline(table);
   for (const p of table.pockets) shape.holes.push(circlePath(p.center[0], p.center[1], p.radius * HOLE_SCALE));
   const material = new THREE.MeshStandardMaterial({ color: colours.cloth, roughness: 0.95 });
   return layFlat(new THREE.ShapeGeometry(shape, 24), material, table);
@@ -77,7 +82,8 @@ function cushions(table, colours, group) {
   const mitre = table.pockets.length ? 0 : CUSHION_WIDTH;
   for (const c of table.cushions) {
     const [nx, ny] = c.normal;
-    const t = [(c.p2[0] - c.p1[0]) / Math.hypot(c.p2[0] - c.p1[0], c.p2[1] - c.p1[1]), (c.p2[1] - c.p1[1]) / Math.hypot(c.p2[0] - c.p1[0], c.p2[1] - c.p1[1])];
+    const length = Math.hypot(c.p2[0] - c.p1[0], c.p2[1] - c.p1[1]);
+    const t = [(c.p2[0] - c.p1[0]) / length, (c.p2[1] - c.p1[1]) / length];
     const back = (p, along) => [p[0] - nx * CUSHION_WIDTH + t[0] * along, p[1] - ny * CUSHION_WIDTH + t[1] * along];
     const shape = shapeOf([c.p1, c.p2, back(c.p2, mitre), back(c.p1, -mitre)]);
     const geometry = new THREE.ExtrudeGeometry(shape, { depth: height, bevelEnabled: false });
@@ -127,13 +133,7 @@ function railEdge(table) {
 function rails(table, colours, group) {
   const material = new THREE.MeshStandardMaterial({ color: colours.rail, roughness: 0.45, metalness: 0.05 });
   const top = table.cushion_height + 0.012;
-  const m = CUSHION_WIDTH + RAIL_WIDTH;
-  const shape = shapeOf([
-    [-m, -m],
-    [table.w + m, -m],
-    [table.w + m, table.l + m],
-    [-m, table.l + m],
-  ]);
+  const shape = outline(table);
   shape.holes.push(railEdge(table));
   const geometry = new THREE.ExtrudeGeometry(shape, { depth: top + 0.04, bevelEnabled: false, curveSegments: 4 });
   group.add(layFlat(geometry, material, table, -0.04));

@@ -130,6 +130,16 @@ export class TableView {
     return mesh && mesh.visible ? this.frame.toTable(mesh.position) : null;
   }
 
+  /** Where each ball on the table is drawn: {id: [x, y]} (the browser tests read it). */
+  drawnBalls() {
+    const out = {};
+    for (const id of this.balls.keys()) {
+      const p = this.ballAt(id);
+      if (p) out[id] = p;
+    }
+    return out;
+  }
+
   /** Show the cue, aim line and ghost ball for cue ball `cueId` (null hides them). */
   setAim(cueId, aim) {
     this.cueId = cueId;
