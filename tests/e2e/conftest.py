@@ -181,6 +181,15 @@ def wait_shown(page: Page, count: int = 1, timeout: float = 60_000) -> None:
     page.wait_for_function("(n) => (window.billiards?.shown ?? 0) >= n", arg=count, timeout=timeout)
 
 
+def wait_drawn(page: Page, camera: str | None = None) -> None:
+    """Until the table shows every change asked of it (with `camera`: in that view)."""
+    page.wait_for_function(
+        "(camera) => window.billiards.drawn()"
+        " && (camera === null || window.billiards.camera() === camera)",
+        arg=camera,
+    )
+
+
 def drawn_balls(page: Page) -> dict[str, list[float]]:
     """Where the page draws each ball (table coordinates)."""
     return page.evaluate("window.billiards.balls()")

@@ -13,6 +13,7 @@ from tests.e2e.conftest import (
     enter_name,
     screenshot,
     unique_name,
+    wait_drawn,
     wait_shown,
 )
 
@@ -40,7 +41,7 @@ def test_practice_table_draws_in_its_colours(open_page, game, cloth):
     page = open_page(f"/practice/{game}")
     enter_name(page, unique_name("Pr"))
     wait_shown(page)
-    page.wait_for_timeout(300)  # the first frame after the balls were placed
+    wait_drawn(page)  # a frame with the balls placed
     colours = canvas_colours(page)
     assert colours[cloth] > 0.2, colours  # the cloth fills much of the view
     assert colours["blank"] < 0.9, colours
@@ -48,7 +49,7 @@ def test_practice_table_draws_in_its_colours(open_page, game, cloth):
     assert "to shoot" in status and "Score" in status
     screenshot(page, f"practice-{game}-aim")
     page.keyboard.press("v")  # the top view
-    page.wait_for_timeout(300)
+    wait_drawn(page, "top")
     assert canvas_colours(page)[cloth] > 0.2
     screenshot(page, f"practice-{game}-top")
 
@@ -90,14 +91,14 @@ def test_mobile_layout(browser, server, console):
     page.goto(server.url + "/practice/eightball")
     enter_name(page, unique_name("Ph"))
     wait_shown(page)
-    page.wait_for_timeout(300)
+    wait_drawn(page)
     # Portrait: the table above the panel, the Hit button on screen without scrolling sideways.
     canvas = page.locator("#table").bounding_box()
     hit = page.locator("#hit").bounding_box()
     assert canvas["width"] <= 390 and hit["y"] > canvas["y"] + canvas["height"] - 1
     assert page.evaluate("document.documentElement.scrollWidth") <= 390
     page.locator("#view-toggle").tap()
-    page.wait_for_timeout(300)
+    wait_drawn(page, "top")
     assert canvas_colours(page)["green"] > 0.2
     screenshot(page, "practice-phone")
     context.close()

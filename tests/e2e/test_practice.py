@@ -15,6 +15,7 @@ from tests.e2e.conftest import (
     screenshot,
     strike_with_keys,
     unique_name,
+    wait_drawn,
     wait_shown,
 )
 
@@ -77,3 +78,28 @@ def test_snooker_break_frame_time(open_page, server):
     artefact("snooker-break-frames", ".json").write_text(json.dumps(report, indent=1))
     print("snooker break animation:", report)
     screenshot(page, "practice-snooker-after-break")
+
+
+def test_ball_in_hand_is_dragged_and_placed_where_dropped(open_page, server):
+    page = open_page("/practice/nineball")
+    enter_name(page, unique_name("Bh"))
+    wait_shown(page)
+    view = table_state(page, server)
+    assert view["next"]["ball_in_hand"] == "kitchen"
+    page.keyboard.press("v")  # drag in the top view
+    wait_drawn(page, "top")
+    start = drawn_balls(page)["cue"]
+    target = [start[0] - 0.25, start[1] - 0.2]  # still behind the head string
+    x0, y0 = page.evaluate("(p) => window.billiards.screenOf(p)", start)
+    x1, y1 = page.evaluate("(p) => window.billiards.screenOf(p)", target)
+    page.mouse.move(x0, y0)
+    page.mouse.down()
+    page.mouse.move((x0 + x1) / 2, (y0 + y1) / 2, steps=4)
+    page.mouse.move(x1, y1, steps=4)
+    page.mouse.up()
+    dropped = drawn_balls(page)["cue"]
+    assert math.dist(dropped, target) < 0.01  # within a centimetre of where it was let go
+    strike_with_keys(page, hold_ms=300)
+    wait_shown(page, 2)
+    played = table_state(page, server)["last_outcome"]["input"]
+    assert math.dist(played["place"], dropped) < 1e-6

@@ -26,7 +26,9 @@ const geometry = fetch("/web/tables").then((r) => r.json());
 
 /** Diagnostics the browser tests read: per animation, its frame intervals and the main thread's
  *  time per frame (ms); how many table states have been shown, and the version of the last;
- *  balls(): where each ball is drawn, in table coordinates. */
+ *  balls(): where each ball is drawn, in table coordinates; screenOf(p): where on the page a
+ *  table point is drawn; camera(): the view last drawn ("aim" or "top"); drawn(): whether
+ *  every change asked for has been drawn. */
 const diagnostics = { animations: [], shown: 0 };
 window.billiards = diagnostics;
 
@@ -89,6 +91,9 @@ class PlayPage {
     document.title = `billiards: ${view.game}`;
     this.view3d = new TableView($("table"), table, view.game);
     diagnostics.balls = () => this.view3d.drawnBalls();
+    diagnostics.screenOf = (p) => this.view3d.screenOf(p);
+    diagnostics.camera = () => this.view3d.shownMode;
+    diagnostics.drawn = () => !this.view3d.pending && !this.view3d.animating;
     this.controls = new Controls(
       this.view3d,
       {

@@ -319,6 +319,13 @@ export class TableView {
     this.resize();
   }
 
+  /** The page coordinates [x, y] at which table point p (at ball height) is drawn. */
+  screenOf(p) {
+    const v = this.frame.toWorld(p[0], p[1], this.table.R).project(this.camera);
+    const rect = this.canvas.getBoundingClientRect();
+    return [rect.left + ((v.x + 1) / 2) * rect.width, rect.top + ((1 - v.y) / 2) * rect.height];
+  }
+
   /** The table point [x, y] under a pointer event, or null off the cloth plane. */
   pointerToTable(event) {
     const rect = this.canvas.getBoundingClientRect();
