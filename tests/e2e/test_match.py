@@ -154,3 +154,39 @@ def test_quick_match_pairs_two_players(browser, server, console):
     finally:
         for c in contexts:
             c.close()
+
+
+def test_a_game_against_the_bot(open_page, server):
+    page = open_page("/")
+    page.fill("#name", unique_name("Vb"))
+    page.click("#name-form button")
+    page.wait_for_function("document.getElementById('who').textContent !== ''")
+    page.locator("#games .card", has_text="Eight-ball").get_by_role(
+        "button", name="Play the bot"
+    ).click()
+    page.wait_for_url("**/table/*")
+    table_id = page.url.rsplit("/", 1)[1]
+    wait_version(page, 0)
+    for _ in range(MAX_SHOTS):
+        view = view_of(page, server, table_id)
+        if view["last_outcome"] and view["last_outcome"]["seat"] == 1:
+            break  # the bot has played, through the same match path
+        if view["next"] and view["next"]["seat"] == 0:
+            wait_version(page, view["version"])
+            strike_with_keys(page, hold_ms=500, left=1)
+            page.wait_for_function(
+                "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
+            )
+        else:
+            page.wait_for_timeout(200)  # the bot is thinking
+    # The bot may play on: compare once it is our turn again (or the rack is over) and the page
+    # has caught up.
+    for _ in range(600):  # two minutes at most
+        bot = view_of(page, server, table_id)
+        if bot["next"] is None or bot["next"]["seat"] == 0:
+            break
+        page.wait_for_timeout(200)
+    wait_version(page, bot["version"])
+    assert bot["seats"][1]["id"].startswith("bot:")
+    assert_shows(page, bot)
+    screenshot(page, "bot-table")

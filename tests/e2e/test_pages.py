@@ -101,4 +101,11 @@ def test_mobile_layout(browser, server, console):
     wait_drawn(page, "top")
     assert canvas_colours(page)["green"] > 0.2
     screenshot(page, "practice-phone")
+    # The touch controls strike: a tap on the tip disc (low: back spin), then on Hit.
+    tip = page.locator("#tip").bounding_box()
+    page.touchscreen.tap(tip["x"] + tip["width"] / 2, tip["y"] + tip["height"] * 0.7)
+    assert "back" in page.locator("#tip").get_attribute("aria-valuetext")
+    page.locator("#hit").tap()
+    wait_shown(page, 2)
+    assert "potted" in page.get_by_role("status").inner_text()
     context.close()
