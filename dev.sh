@@ -32,15 +32,29 @@ need_debian_package() {  # need_debian_package BINARY PACKAGE
     fi
 }
 
+setup_web() {
+    need_debian_package npm npm
+    # npm ci only when the lock file changed since the last install; the build always (< 1 s).
+    local stamp="web/node_modules/.installed-$(sha1sum web/package-lock.json | cut -c1-12)"
+    if [ ! -f "$stamp" ]; then
+        (cd web && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+        touch "$stamp"
+    fi
+    (cd web && npm run --silent build)
+}
+
 case "${1:-}" in
     serve)
         setup_python
+        setup_web
         shift
         exec "$VENV/bin/billiards" serve "$@"
         ;;
     test)
         setup_python
         need_debian_package redis-server redis-server
+        need_debian_package chromium chromium
+        setup_web
         shift
         "$VENV/bin/ruff" check .
         "$VENV/bin/ruff" format --check .

@@ -18,6 +18,7 @@ from server.relay.memory import MemoryBackend
 from server.relay.relay import Relay
 from server.relay.routes import mount_relay
 from server.relay.settings import RelaySettings
+from server.web import mount_web
 
 
 class AppSettings(BaseModel):
@@ -49,6 +50,7 @@ def create_app(settings: AppSettings | None = None) -> web.Application:
     backend = make_backend(settings)
     relay = Relay.build(backend, settings.relay)
     mount_relay(app, relay)
+    mount_web(app)
 
     async def backend_lifetime(app: web.Application) -> AsyncIterator[None]:
         yield

@@ -1,0 +1,229 @@
+"""Browser tests: the real server on a free port, driven by Debian's Chromium through Python
+Playwright (launched by path: never a browser download).
+
+WebGL runs headless on SwiftShader, Chromium's software renderer, so the tests need no GPU.
+Every page a test opens is watched for console errors and uncaught exceptions; a test that
+saw one fails at teardown. Screenshots go to tests/e2e/artefacts/ (gitignored) for a person
+to look at.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import time
+import urllib.request
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+from playwright.sync_api import Browser, ConsoleMessage, Page, sync_playwright
+
+from tests.redis_server import free_port
+
+CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
+ARTEFACTS = Path(__file__).parent / "artefacts"
+START_TIMEOUT_S = 30.0
+#: Software WebGL: ANGLE on SwiftShader, allowed although no GPU is there.
+CHROMIUM_ARGS = [
+    "--use-gl=angle",
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+    "--ignore-gpu-blocklist",
+    "--disable-dev-shm-usage",
+]
+
+
+def _answers(url: str) -> bool:
+    try:
+        with urllib.request.urlopen(url, timeout=1) as response:
+            return response.status < 500
+    except OSError:
+        return False
+
+
+class Server:
+    """`billiards serve` in a subprocess, its data in a temporary directory."""
+
+    def __init__(self, directory: Path) -> None:
+        self.directory = directory
+        self.port = free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        self.process: subprocess.Popen[bytes] | None = None
+
+    def start(self) -> None:
+        command = [sys.executable, "-m", "server.cli", "serve", "--port", str(self.port)]
+        env = {**os.environ, "BILLIARDS_RELAY_SECRET": "e2e-secret-0123456789abcdef"}
+        self.log = open(self.directory / "server.log", "ab")  # noqa: SIM115 (closed in stop)
+        self.process = subprocess.Popen(
+            command, cwd=self.directory, env=env, stdout=self.log, stderr=subprocess.STDOUT
+        )
+        deadline = time.monotonic() + START_TIMEOUT_S
+        while not _answers(self.url + "/web/tables"):
+            if self.process.poll() is not None or time.monotonic() > deadline:
+                raise RuntimeError(f"server did not start; see {self.directory / 'server.log'}")
+            time.sleep(0.1)
+
+    def stop(self) -> None:
+        if self.process is not None:
+            self.process.terminate()
+            self.process.wait(timeout=10)
+            self.process = None
+            self.log.close()
+
+
+@pytest.fixture(scope="session")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    if not (Path(__file__).resolve().parents[2] / "web" / "dist" / "play.html").is_file():
+        raise RuntimeError("the web client is not built: run `bash dev.sh test` (npm ci, build)")
+    srv = Server(tmp_path_factory.mktemp("server"))
+    srv.start()
+    yield srv
+    srv.stop()
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Browser]:
+    """One Chromium per test module. (Playwright's sync API keeps an event loop of its own while
+    it runs; stopped at the end of each e2e module, it never meets the suite's asyncio tests.)"""
+    binary = shutil.which(CHROMIUM) or shutil.which("chromium")
+    if binary is None:
+        raise RuntimeError(
+            f"Chromium not found at {CHROMIUM}: install the Debian package 'chromium' "
+            "(`bash dev.sh test` does; browser tests never skip)"
+        )
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=binary, args=CHROMIUM_ARGS)
+        yield b
+        b.close()
+
+
+class Console:
+    """The console errors and uncaught exceptions of every page opened through `open_page`."""
+
+    def __init__(self) -> None:
+        self.errors: list[str] = []
+        self.allowed: list[str] = []
+
+    def allow(self, text: str) -> None:
+        """Let console errors containing `text` pass: a test that provokes a refusal on purpose
+        (the browser logs every non-2xx answer as a failed resource load)."""
+        self.allowed.append(text)
+
+    def watch(self, page: Page, who: str) -> Page:
+        def on_console(message: ConsoleMessage) -> None:
+            if message.type == "error" and not any(a in message.text for a in self.allowed):
+                self.errors.append(f"{who}: console: {message.text} at {message.location}")
+
+        page.on("console", on_console)
+        page.on("pageerror", lambda e: self.errors.append(f"{who}: uncaught: {e}"))
+        return page
+
+
+@pytest.fixture
+def console() -> Iterator[Console]:
+    watcher = Console()
+    yield watcher
+    assert not watcher.errors, "\n".join(watcher.errors)
+
+
+@pytest.fixture
+def open_page(browser: Browser, server: Server, console: Console):
+    """open_page(path, who="player", viewport=...) -> a page in its own browser context (its own
+    localStorage: a separate person), watched for console errors."""
+    contexts = []
+
+    def open_(path: str, who: str = "player", viewport: dict | None = None, context=None) -> Page:
+        if context is None:
+            context = browser.new_context(viewport=viewport or {"width": 1280, "height": 800})
+            contexts.append(context)
+        page = console.watch(context.new_page(), who)
+        page.goto(server.url + path)
+        return page
+
+    yield open_
+    for context in contexts:
+        context.close()
+
+
+def artefact(name: str, suffix: str = ".png") -> Path:
+    """The path of artefact NAME under tests/e2e/artefacts/ (created)."""
+    ARTEFACTS.mkdir(exist_ok=True)
+    return ARTEFACTS / f"{name}{suffix}"
+
+
+def screenshot(page: Page, name: str) -> Path:
+    """Save what the page shows as the artefact NAME.png."""
+    path = artefact(name)
+    page.screenshot(path=str(path))
+    return path
+
+
+_names = iter(range(1, 10**6))
+
+
+def unique_name(prefix: str) -> str:
+    """A display name nobody online has (names are unique among players online)."""
+    return f"{prefix}{os.getpid() % 1000}x{next(_names)}"
+
+
+def enter_name(page: Page, name: str) -> None:
+    """Answer the page's name form (shown to a visitor without an identity)."""
+    page.fill(".overlay input", name)
+    page.click(".overlay button[type=submit]")
+    page.wait_for_selector(".overlay", state="detached")
+
+
+def wait_shown(page: Page, count: int = 1, timeout: float = 60_000) -> None:
+    """Until the play page has shown `count` table states (views or outcomes, animated)."""
+    page.wait_for_function("(n) => (window.billiards?.shown ?? 0) >= n", arg=count, timeout=timeout)
+
+
+def wait_drawn(page: Page, camera: str | None = None) -> None:
+    """Until the table shows every change asked of it (with `camera`: in that view)."""
+    page.wait_for_function(
+        "(camera) => window.billiards.drawn()"
+        " && (camera === null || window.billiards.camera() === camera)",
+        arg=camera,
+    )
+
+
+def drawn_balls(page: Page) -> dict[str, list[float]]:
+    """Where the page draws each ball (table coordinates)."""
+    return page.evaluate("window.billiards.balls()")
+
+
+def strike_with_keys(page: Page, hold_ms: int = 500, left: int = 0) -> None:
+    """Aim with the arrow keys, then hold Space for the power and let go."""
+    page.locator("#table").focus()
+    for _ in range(left):
+        page.keyboard.press("ArrowLeft")
+    page.keyboard.down(" ")
+    page.wait_for_timeout(hold_ms)
+    page.keyboard.up(" ")
+
+
+def canvas_colours(page: Page) -> dict[str, float]:
+    """Fractions of the table canvas's pixels that are mostly blue, mostly green, and blank
+    (the page's background): read back from the WebGL canvas."""
+    return page.evaluate(
+        """() => {
+            const gl = document.getElementById('table');
+            const c = document.createElement('canvas');
+            c.width = 200; c.height = Math.round(200 * gl.height / gl.width);
+            const ctx = c.getContext('2d');
+            ctx.drawImage(gl, 0, 0, c.width, c.height);
+            const d = ctx.getImageData(0, 0, c.width, c.height).data;
+            let blue = 0, green = 0, blank = 0;
+            for (let i = 0; i < d.length; i += 4) {
+                const [r, g, b] = [d[i], d[i + 1], d[i + 2]];
+                if (b > r + 40 && b > g + 15) blue++;
+                else if (g > r + 30 && g > b + 15) green++;
+                if (r < 30 && g < 30 && b < 35) blank++;
+            }
+            const n = d.length / 4;
+            return {blue: blue / n, green: green / n, blank: blank / n};
+        }"""
+    )

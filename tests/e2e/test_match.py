@@ -1,0 +1,192 @@
+"""An online match in three browser contexts: Ada creates a table from the home page, Bob
+opens its link and joins, Cy watches. Each player shoots with the keyboard; all three see
+every outcome and agree on the balls; Bob reloads mid-match and resumes where the table is."""
+
+from __future__ import annotations
+
+import math
+
+from tests.e2e.conftest import (
+    drawn_balls,
+    enter_name,
+    screenshot,
+    strike_with_keys,
+    unique_name,
+)
+
+#: Enough shots for both players to have had a turn (a player who pots goes on).
+MAX_SHOTS = 8
+
+
+def view_of(page, server, table_id: str) -> dict:
+    return page.request.get(f"{server.url}/api/tables/{table_id}").json()
+
+
+def wait_version(page, version: int) -> None:
+    """Until the page shows the table at `version` (any animation played to its end)."""
+    page.wait_for_function(
+        "(v) => (window.billiards?.version ?? -1) >= v", arg=version, timeout=90_000
+    )
+
+
+def assert_shows(page, view: dict) -> None:
+    drawn = drawn_balls(page)
+    in_hand = view["next"] and view["next"]["cue_ball"] not in view["state"]["balls"]
+    if in_hand:  # the player to shoot is offered a place for it; the others see none
+        drawn.pop(view["next"]["cue_ball"], None)
+    assert drawn.keys() == view["state"]["balls"].keys()
+    for ball, p in drawn.items():
+        assert math.dist(p, view["state"]["balls"][ball]) < 1e-9, ball
+
+
+def test_two_players_and_a_spectator(browser, server, console):
+    contexts = [browser.new_context(viewport={"width": 1100, "height": 700}) for _ in range(3)]
+    ada, bob, cy = (
+        console.watch(c.new_page(), who) for c, who in zip(contexts, "ABC", strict=True)
+    )
+    try:
+        ada.goto(server.url + "/")
+        ada.fill("#name", unique_name("Ada"))
+        ada.click("#name-form button")
+        ada.wait_for_function("document.getElementById('who').textContent !== ''")
+        ada.select_option("#create-game", "nineball")
+        ada.click("#create-form button[type=submit]")
+        ada.wait_for_url("**/table/*")
+        table_id = ada.url.rsplit("/", 1)[1]
+        wait_version(ada, 0)
+        assert "Waiting for an opponent" in ada.get_by_role("status").inner_text()
+
+        bob.goto(ada.url)
+        bob.get_by_role("button", name="Join this table").click()
+        enter_name(bob, unique_name("Bob"))
+        started = view_of(bob, server, table_id)
+        assert started["status"] == "playing"
+        cy.goto(ada.url)
+        pages = {0: ada, 1: bob}
+        for page in (ada, bob, cy):
+            wait_version(page, started["version"])
+        assert cy.get_by_role("button", name="Join this table").count() == 0
+
+        shooters = set()
+        view = started
+        for _ in range(MAX_SHOTS):
+            seat = view["next"]["seat"]
+            shooter = pages[seat]
+            if view["next"]["kinds"] == ["choice"]:
+                shooter.locator("#choices button").first.click()
+            else:
+                strike_with_keys(shooter, hold_ms=400 + 150 * len(shooters), left=2)
+            shooters.add(seat)
+            try:
+                shooter.wait_for_function(
+                    "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
+                )
+            except Exception as e:
+                raise AssertionError(shooter.get_by_role("status").inner_text()) from e
+            view = view_of(cy, server, table_id)
+            for page in (ada, bob, cy):
+                wait_version(page, view["version"])
+                assert_shows(page, view)
+            words = {p.get_by_role("status").inner_text() for p in (ada, bob, cy)}
+            assert len(words) == 1, words  # players and spectator read the same
+            if shooters == {0, 1} or view["status"] != "playing":
+                break
+        assert shooters == {0, 1}
+        screenshot(cy, "match-spectator")
+        screenshot(ada, "match-player")
+
+        # Bob reloads: the page resumes at the table's version, showing the same table.
+        bob.reload()
+        wait_version(bob, view["version"])
+        assert_shows(bob, view_of(bob, server, table_id))
+        assert bob.get_by_role("button", name="Join this table").count() == 0
+        screenshot(bob, "match-after-reload")
+
+        # Ada resigns; Bob offers a rematch, Ada accepts, and both go to the new table.
+        ada.get_by_role("button", name="Resign").click()
+        for page in (ada, bob, cy):
+            page.wait_for_function(
+                "() => document.getElementById('status').textContent.includes('Match over')"
+            )
+        assert "wins" in cy.get_by_role("status").inner_text()
+        bob.get_by_role("button", name="Offer a rematch").click()
+        ada.get_by_role("button", name="Accept the rematch").click()
+        for page in (ada, bob):
+            page.get_by_role("link", name="Go to the rematch").click()
+            page.wait_for_url("**/table/*")
+            wait_version(page, 0)
+        assert ada.url == bob.url and ada.url.rsplit("/", 1)[1] != table_id
+
+        # Bob leaves: Ada is told he is gone once his heartbeats stop (10 s).
+        bob.close()
+        ada.wait_for_selector("#banner:has-text('disconnected')", timeout=40_000)
+        screenshot(ada, "match-opponent-gone")
+    finally:
+        for c in contexts:
+            c.close()
+
+
+def test_quick_match_pairs_two_players(browser, server, console):
+    contexts = [browser.new_context() for _ in range(2)]
+    try:
+        pages = [console.watch(c.new_page(), who) for c, who in zip(contexts, "DE", strict=True)]
+        for page in pages:
+            page.goto(server.url + "/")
+            page.fill("#name", unique_name("Qm"))
+            page.click("#name-form button")
+            page.wait_for_function("document.getElementById('who').textContent !== ''")
+        # The first waits (told of its pairing on its player channel), the second is paired.
+        first, second = pages
+        first.locator("#games .card", has_text="Snooker").get_by_role(
+            "button", name="Quick match"
+        ).click()
+        first.wait_for_selector("text=Waiting for an opponent")
+        second.locator("#games .card", has_text="Snooker").get_by_role(
+            "button", name="Quick match"
+        ).click()
+        for page in pages:
+            page.wait_for_url("**/table/*")
+            wait_version(page, 0)
+        assert first.url == second.url
+        table = view_of(first, server, first.url.rsplit("/", 1)[1])
+        assert table["game"] == "snooker" and table["status"] == "playing"
+        assert all(table["seats"])
+    finally:
+        for c in contexts:
+            c.close()
+
+
+def test_a_game_against_the_bot(open_page, server):
+    page = open_page("/")
+    page.fill("#name", unique_name("Vb"))
+    page.click("#name-form button")
+    page.wait_for_function("document.getElementById('who').textContent !== ''")
+    page.locator("#games .card", has_text="Eight-ball").get_by_role(
+        "button", name="Play the bot"
+    ).click()
+    page.wait_for_url("**/table/*")
+    table_id = page.url.rsplit("/", 1)[1]
+    wait_version(page, 0)
+    for _ in range(MAX_SHOTS):
+        view = view_of(page, server, table_id)
+        if view["last_outcome"] and view["last_outcome"]["seat"] == 1:
+            break  # the bot has played, through the same match path
+        if view["next"] and view["next"]["seat"] == 0:
+            wait_version(page, view["version"])
+            strike_with_keys(page, hold_ms=500, left=1)
+            page.wait_for_function(
+                "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
+            )
+        else:
+            page.wait_for_timeout(200)  # the bot is thinking
+    # The bot may play on: compare once it is our turn again (or the rack is over) and the page
+    # has caught up.
+    for _ in range(600):  # two minutes at most
+        bot = view_of(page, server, table_id)
+        if bot["next"] is None or bot["next"]["seat"] == 0:
+            break
+        page.wait_for_timeout(200)
+    wait_version(page, bot["version"])
+    assert bot["seats"][1]["id"].startswith("bot:")
+    assert_shows(page, bot)
+    screenshot(page, "bot-table")

@@ -1,0 +1,76 @@
+// /leaderboard/{game}: the game's highest breaks (GET /api/leaderboard/{game}, kept live from
+// the `public-leaderboard` channel), each opening its replay; and a form to claim a break from
+// a game record, which the server replays and checks before it enters.
+import { get, post, storedPlayer } from "../net/api.js";
+import { Subscription } from "../net/relay.js";
+import { GAME_NAMES, GAMES } from "../lib/looks.js";
+
+const $ = (id) => document.getElementById(id);
+const SOURCES = { match: "a match", practice: "practice", claim: "a claimed record" };
+
+function cell(text) {
+  const td = document.createElement("td");
+  td.textContent = text;
+  return td;
+}
+
+function show(breaks) {
+  const body = $("board").querySelector("tbody");
+  body.replaceChildren();
+  breaks.forEach((b, i) => {
+    const row = document.createElement("tr");
+    const replay = document.createElement("td");
+    if (b.replay) {
+      const a = document.createElement("a");
+      a.href = `/replay/${b.replay}`;
+      a.textContent = "Watch";
+      replay.append(a);
+    }
+    row.append(cell(String(i + 1)), cell(b.name), cell(String(b.score)), cell(SOURCES[b.source] ?? b.source), replay);
+    body.append(row);
+  });
+  const n = breaks.length;
+  $("board-status").textContent = n ? `${n} break${n === 1 ? "" : "s"}` : "No breaks yet: be the first.";
+}
+
+async function claim(game) {
+  const verdict = $("claim-verdict");
+  verdict.className = "";
+  verdict.textContent = "Checking the record...";
+  try {
+    const file = $("claim-file").files[0];
+    const text = file ? await file.text() : $("claim-record").value;
+    const record = JSON.parse(text);
+    const answer = await post("/api/leaderboard/claims", { game, record, name: $("claim-name").value.trim(), score: Number($("claim-score").value) });
+    verdict.textContent = `Accepted: a break of ${answer.entry.score} by ${answer.entry.name}.`;
+    show((await get(`/api/leaderboard/${game}`)).breaks);
+  } catch (e) {
+    verdict.className = "error";
+    verdict.textContent = e instanceof SyntaxError ? "That is not a JSON record." : `Refused: ${e.message}`;
+  }
+}
+
+async function main() {
+  const game = location.pathname.split("/")[2];
+  document.title = `billiards: ${GAME_NAMES[game]} leaderboard`;
+  $("title").textContent = `Highest breaks: ${GAME_NAMES[game]}`;
+  for (const g of GAMES) {
+    const a = document.createElement("a");
+    a.href = `/leaderboard/${g}`;
+    a.className = g === game ? "button primary" : "button";
+    a.textContent = GAME_NAMES[g];
+    $("game-links").append(a);
+  }
+  const me = storedPlayer();
+  if (me) $("claim-name").value = me.name;
+  $("claim-form").addEventListener("submit", (e) => {
+    e.preventDefault();
+    claim(game);
+  });
+  show((await get(`/api/leaderboard/${game}`)).breaks);
+  new Subscription("public-leaderboard", { onMessage: (m) => m.kind === "leaderboard" && m.game === game && show(m.breaks) });
+}
+
+main().catch((e) => {
+  $("board-status").textContent = `Could not load the leaderboard: ${e.message}`;
+});

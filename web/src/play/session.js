@@ -1,0 +1,114 @@
+// One table as the client follows it: the full view from GET /api/tables/{id}, then the table
+// channel's messages applied strictly in version order (docs/protocol.md, "Versions and
+// resync"). A message one past ours is applied; an old one is ignored; a hole, or a gap the
+// relay reports, fetches the full view again. Outcomes are handed on one at a time, each after
+// the previous one's animation has finished.
+import { get, post, shotId } from "../net/api.js";
+import { Subscription } from "../net/relay.js";
+
+const HEARTBEAT_MS = 3000;
+
+export class TableSession {
+  /**
+   * handlers: onView(view) for a whole view (start, resync, `table` messages);
+   * onOutcome(message) -> Promise resolved when it has been shown; onChat, onPresence;
+   * onConnection("open" | "closed").
+   */
+  constructor(id, handlers) {
+    this.id = id;
+    this.h = handlers;
+    this.version = -1;
+    this.view = null;
+    this.queue = Promise.resolve();
+    this.heartbeat = null;
+  }
+
+  async start() {
+    const view = await get(`/api/tables/${this.id}`);
+    this.takeView(view);
+    this.subscription = new Subscription(view.channel, {
+      onMessage: (m) => this.receive(m),
+      onGap: () => this.resync(),
+      onState: (s) => {
+        this.h.onConnection?.(s);
+        // After a reconnect the relay replays what we missed; a resync also covers a server
+        // that lost its buffer (restart without Redis).
+        if (s === "open" && this.opened) this.resync();
+        if (s === "open") this.opened = true;
+      },
+    });
+    return view;
+  }
+
+  takeView(view) {
+    this.version = view.version;
+    this.view = view;
+    this.enqueue(() => this.h.onView(view));
+  }
+
+  enqueue(step) {
+    this.queue = this.queue.then(step).catch((e) => console.warn("table update failed", e));
+  }
+
+  receive(message) {
+    if (message.protocol > 1) {
+      location.reload();
+      return;
+    }
+    const { kind } = message;
+    if (kind === "chat") return this.h.onChat?.(message);
+    if (kind === "presence") return this.h.onPresence?.(message);
+    if (kind !== "outcome" && kind !== "table") return;
+    if (message.version <= this.version) return;
+    if (message.version > this.version + 1) {
+      this.resync();
+      return;
+    }
+    this.version = message.version;
+    if (kind === "table") {
+      this.view = message.view;
+      this.enqueue(() => this.h.onView(message.view));
+    } else {
+      this.view = { ...this.view, ...pick(message, "state", "next", "rack", "racks_won", "status", "winner"), version: message.version, last_outcome: message };
+      this.enqueue(() => this.h.onOutcome(message));
+    }
+  }
+
+  async resync() {
+    try {
+      const view = await get(`/api/tables/${this.id}`);
+      if (view.version !== this.version) this.takeView(view);
+    } catch (e) {
+      console.warn("resync failed", e);
+    }
+  }
+
+  /** Send an intent (a shot or a choice) for the version we show; resolves to the answer. */
+  intent(input) {
+    return post(`/api/tables/${this.id}/intents`, { version: this.version, shot_id: shotId(), input });
+  }
+
+  action(name, body = {}) {
+    return post(`/api/tables/${this.id}/${name}`, body);
+  }
+
+  /** Keep telling the server we are here while seated (the opponent sees us otherwise gone). */
+  beat(seated) {
+    if (seated && !this.heartbeat) {
+      // The answer is the table's presence, with the grace periods a reload would not know.
+      const send = () =>
+        this.action("heartbeat")
+          .then((m) => this.h.onPresence?.(m))
+          .catch(() => {});
+      send();
+      this.heartbeat = setInterval(send, HEARTBEAT_MS);
+    } else if (!seated && this.heartbeat) {
+      clearInterval(this.heartbeat);
+      this.heartbeat = null;
+    }
+  }
+}
+
+function pick(object, ...keys) {
+  return Object.fromEntries(keys.map((k) => [k, object[k]]));
+}
