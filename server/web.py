@@ -15,19 +15,18 @@ exactly the table the engine simulates.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import get_args
 
 from aiohttp import web
 from pydantic import BaseModel, ConfigDict
 
-from rules.game import REFEREES
-from rules.racks import GameName
+from rules.racks import Game
+from rules.referee import referee
 from rules.spots import BAULK_Y, D_RADIUS, SNOOKER_SPOTS, Point, Table
 
 #: Where `npm run build` writes the client.
 DIST = Path(__file__).resolve().parent.parent / "web" / "dist"
 
-GAMES: tuple[str, ...] = get_args(GameName)
+GAMES: tuple[str, ...] = tuple(game.value for game in Game)
 
 #: Each page URL and the HTML file that answers it.
 PAGES: dict[str, str] = {
@@ -90,7 +89,7 @@ class TableView(BaseModel):
 
 def table_view(game: str) -> TableView:
     """The drawable table of `game`, built from the referee's table and the engine's geometry."""
-    table: Table = REFEREES[game].TABLE
+    table: Table = referee(Game(game)).TABLE
     geometry = table.spec.geometry()
     snooker = table.preset == "snooker"
     pool = game in ("nineball", "eightball")

@@ -46,8 +46,9 @@ export function decisionWords(view, d) {
   const out = [];
   const potted = d.pocketed.map(ballWords);
   out.push(potted.length ? `${who} potted ${list(potted)}.` : `${who} potted nothing.`);
-  for (const foul of d.fouls) out.push(`Foul: ${foul}.`);
-  for (const note of d.notes) out.push(`${note.charAt(0).toUpperCase()}${note.slice(1)}.`);
+  // Fouls and notes carry codes (to test and translate) beside their words, shown here.
+  for (const foul of d.fouls) out.push(`Foul: ${foul.reason}.`);
+  for (const note of d.notes) out.push(`${note.text.charAt(0).toUpperCase()}${note.text.slice(1)}.`);
   const points = d.points.reduce((a, b) => a + b, 0);
   if (points && view.game !== "nineball" && view.game !== "eightball") {
     out.push(d.points.map((p, seat) => (p ? `${playerName(view, seat)} +${p}` : null)).filter(Boolean).join(", ") + ".");
