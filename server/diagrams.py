@@ -18,6 +18,7 @@ computes nothing.
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from typing import Any
 
 from aiohttp import web
@@ -78,7 +79,7 @@ class MotionQuery(Query):
 
 
 def throw_curves(q: ThrowQuery) -> dict:
-    p = POOL.with_overrides({"throw_a": q.throw_a, "throw_b": q.throw_b, "throw_c": q.throw_c})
+    p = replace(POOL, throw_a=q.throw_a, throw_b=q.throw_b, throw_c=q.throw_c)
     return {
         "cut_deg": list(CUTS),
         "curves": [
@@ -89,7 +90,7 @@ def throw_curves(q: ThrowQuery) -> dict:
 
 
 def cushion_curves(q: CushionQuery) -> dict:
-    p = POOL.with_overrides({"e_c": q.e_c, "f_c": q.f_c})
+    p = replace(POOL, e_c=q.e_c, f_c=q.f_c)
     curves = []
     for model in CUSHION_MODELS:
         for spin in CUSHION_SPINS:

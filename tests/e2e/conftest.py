@@ -55,7 +55,7 @@ class Server:
 
     def start(self) -> None:
         command = [sys.executable, "-m", "server.cli", "serve", "--port", str(self.port)]
-        env = {**os.environ, "BILLIARDS_RELAY_SECRET": "e2e-secret-0123456789abcdef"}
+        env = {**os.environ, "BILLIARDS_RELAY_SECRET": "e2e-secret-0123456789abcdef0123456789"}
         self.log = open(self.directory / "server.log", "ab")  # noqa: SIM115 (closed in stop)
         self.process = subprocess.Popen(
             command, cwd=self.directory, env=env, stdout=self.log, stderr=subprocess.STDOUT
