@@ -16,15 +16,9 @@ import sys
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
-#: The modules the kernel compiles, as physics/kernel.py lists them (read without importing
-#: the package, whose dependencies the build environment does not have).
-KERNEL = runpy.run_path("physics/kernel.py")["MODULES"]
-
-#: IEEE arithmetic exactly as Python's floats do it: no fused multiply-add, no fast-math.
-C_FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math"]
-
-#: Python's semantics where C's differ: division by zero raises, `**` and `%` as in Python.
-DIRECTIVES = {"language_level": 3, "cdivision": False, "cpow": False, "binding": False}
+#: The modules, C flags and Cython directives of the kernel, from physics/kernel.py (read
+#: without importing the package, whose dependencies the build environment does not have).
+KERNEL = runpy.run_path("physics/kernel.py")
 
 
 class OptionalBuildExt(build_ext):
@@ -54,10 +48,10 @@ def _extensions() -> list[Extension]:
         _warn(ImportError("Cython is not installed"))
         return []
     modules = [
-        Extension(name, [name.replace(".", "/") + ".py"], extra_compile_args=C_FLAGS)
-        for name in KERNEL
+        Extension(name, [name.replace(".", "/") + ".py"], extra_compile_args=KERNEL["C_FLAGS"])
+        for name in KERNEL["MODULES"]
     ]
-    return cythonize(modules, compiler_directives=DIRECTIVES, quiet=True)
+    return cythonize(modules, compiler_directives=KERNEL["DIRECTIVES"], quiet=True)
 
 
 setup(ext_modules=_extensions(), cmdclass={"build_ext": OptionalBuildExt})

@@ -395,9 +395,9 @@ class Simulation:
         dv = 0.5 * pressing * until
         slower_a = (va[0] - dv * n[0], va[1] - dv * n[1])
         slower_b = (vb[0] + dv * n[0], vb[1] + dv * n[1])
-        if sa == ROLLING and math.hypot(*slower_a) < math.hypot(*va):
+        if sa == ROLLING and math.hypot(slower_a[0], slower_a[1]) < math.hypot(va[0], va[1]):
             va, wa = slower_a, motion.rolling_spin(slower_a, wa[2], p.R)
-        elif sb == ROLLING and math.hypot(*slower_b) < math.hypot(*vb):
+        elif sb == ROLLING and math.hypot(slower_b[0], slower_b[1]) < math.hypot(vb[0], vb[1]):
             vb, wb = slower_b, motion.rolling_spin(slower_b, wb[2], p.R)
         return va, wa, vb, wb
 

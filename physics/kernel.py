@@ -26,6 +26,12 @@ MODULES = (
     "physics.engine",
 )
 
+#: IEEE arithmetic exactly as Python's floats do it: no fused multiply-add, no fast-math.
+C_FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math"]
+
+#: Python's semantics where C's differ: division by zero raises, `**` and `%` as in Python.
+DIRECTIVES = {"language_level": 3, "cdivision": False, "cpow": False, "binding": False}
+
 #: The environment variable that, set to anything but "" or "0", turns the kernel off.
 PURE_ENV = "BILLIARDS_PURE_PYTHON"
 
