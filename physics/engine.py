@@ -17,11 +17,10 @@ import heapq
 import math
 from collections.abc import Callable
 
-from physics import motion
+from physics import motion, roots
 from physics.ball_ball import BALL_BALL_MODELS
 from physics.cushion import CUSHION_MODELS
 from physics.motion import POCKETED, ROLLING, SLIDING, SPINNING, STATIONARY
-from physics.roots import first_entry, first_entry_quadratic, first_return, path_misses
 from physics.scene import Scene
 from physics.trajectory import BallFinal, Event, ModelsUsed, Segment, Shot
 
@@ -206,7 +205,7 @@ class Simulation:
                 if t_spin < first[0]:
                     self._push(t_spin, "spin", i)
             b.t_own = first[0] if b.state != SPINNING else math.inf
-            self._push(first[0], first[1], i, data=first[2])
+            self._push(first[0], first[1], i, -1, first[2])
 
     def _table_contact(self, b: _Ball, horizon: float) -> tuple[float, str, object]:
         """The earliest cushion, jaw or pocket contact of a moving ball within `horizon`."""
@@ -223,9 +222,9 @@ class Simulation:
             c2 = 0.5 * (ax * nx + ay * ny)
             if g0 <= TOUCH_GAP:
                 approaching = g1 < -MIN_APPROACH
-                t = 0.0 if approaching else first_return((g0, g1, c2), horizon, REST_DEPTH)
+                t = 0.0 if approaching else roots.first_return((g0, g1, c2), horizon, REST_DEPTH)
             else:
-                t = first_entry_quadratic(g0, g1, c2, horizon)
+                t = roots.first_entry_quadratic(g0, g1, c2, horizon)
             if t is None:
                 continue
             # Does the contact fall on this segment, not on the line beyond it?
@@ -244,15 +243,6 @@ class Simulation:
                     horizon = t
                     best = (now + t, kind, circle)
         return best
-
-    @staticmethod
-    def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
-        """First contact time from now for f = |d|^2 - contact^2 with coefficients c."""
-        if gap <= TOUCH_GAP:
-            if c[1] < -2.0 * contact * MIN_APPROACH:
-                return 0.0  # touching and approaching: now
-            return first_return(c, horizon, 2.0 * contact * REST_DEPTH)
-        return first_entry(c, horizon)
 
     def _circle_contact(self, b: _Ball, center, radius, horizon):
         dx, dy = b.x - center[0], b.y - center[1]
@@ -283,7 +273,7 @@ class Simulation:
         chord test culls most candidates; the rest solve f = |d|^2 - contact^2, a quartic.
         """
         self.contacts_checked += 1
-        if path_misses(dx, dy, vx, vy, ax, ay, horizon, contact):
+        if roots.path_misses(dx, dy, vx, vy, ax, ay, horizon, contact):
             return None
         self.quartics_solved += 1
         c = (
@@ -293,7 +283,7 @@ class Simulation:
             vx * ax + vy * ay,
             0.25 * (ax * ax + ay * ay),
         )
-        return self._first_contact(c, math.hypot(dx, dy) - contact, contact, horizon)
+        return _first_contact(c, math.hypot(dx, dy) - contact, contact, horizon)
 
     # -- resolution ----------------------------------------------------------------------
 
@@ -552,6 +542,15 @@ class Simulation:
                 cushion_height=self.geometry.spec.cushion_height,
             ),
         )
+
+
+def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
+    """First contact time from now for f = |d|^2 - contact^2 with coefficients c."""
+    if gap <= TOUCH_GAP:
+        if c[1] < -2.0 * contact * MIN_APPROACH:
+            return 0.0  # touching and approaching: now
+        return roots.first_return(c, horizon, 2.0 * contact * REST_DEPTH)
+    return roots.first_entry(c, horizon)
 
 
 def _time(prediction: tuple) -> float:

@@ -30,7 +30,14 @@ MODULES = (
 C_FLAGS = ["-O2", "-ffp-contract=off", "-fno-fast-math"]
 
 #: Python's semantics where C's differ: division by zero raises, `**` and `%` as in Python.
-DIRECTIVES = {"language_level": 3, "cdivision": False, "cpow": False, "binding": False}
+DIRECTIVES = {
+    "language_level": 3,
+    "cdivision": False,
+    "cpow": False,
+    "binding": False,
+    # The C types come from the .pxd files alone; the .py annotations stay for readers.
+    "annotation_typing": False,
+}
 
 #: The environment variable that, set to anything but "" or "0", turns the kernel off.
 PURE_ENV = "BILLIARDS_PURE_PYTHON"

@@ -27,7 +27,7 @@ def _horner(c: tuple[float, ...], t: float) -> float:
 
 
 def _derivative(c: tuple[float, ...]) -> tuple[float, ...]:
-    return tuple(k * c[k] for k in range(1, len(c)))
+    return tuple([k * c[k] for k in range(1, len(c))])
 
 
 def _quadratic_roots(c0: float, c1: float, c2: float) -> list[float]:
@@ -107,8 +107,8 @@ def all_roots(c: tuple[float, ...], hi: float) -> list[float]:
 
 def _refine_neg(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -> float:
     """As `_refine`, for a polynomial rising through zero on [lo, hi]."""
-    neg = tuple(-x for x in c)
-    return _refine(neg, tuple(-x for x in dc), lo, hi)
+    neg = tuple([-x for x in c])
+    return _refine(neg, tuple([-x for x in dc]), lo, hi)
 
 
 def path_misses(
@@ -152,7 +152,7 @@ def first_entry(c: tuple[float, ...], hi: float, skip: float = 0.0) -> float | N
     if _horner(c, skip) <= 0.0:
         return skip
     dc = _derivative(c)
-    knots = [skip, *(p for p in critical_points(c, hi) if p > skip), hi]
+    knots = [skip, *[p for p in critical_points(c, hi) if p > skip], hi]
     for a, b in pairwise(knots):
         if _horner(c, b) <= 0.0:
             return _refine(c, dc, a, b)
