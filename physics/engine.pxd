@@ -34,6 +34,8 @@ cdef class Simulation:
     cdef _set_motion(self, _Ball b, tuple v, tuple w)
     cdef _record(self, _Ball b)
     cdef _push(self, double t, str kind, Py_ssize_t i, Py_ssize_t j=*, object data=*)
+    @cython.locals(k=Py_ssize_t, i=Py_ssize_t, j=Py_ssize_t, bi=_Ball, other=_Ball)
+    cdef _predict(self, tuple changed)
     @cython.locals(b=_Ball, now=cython.double)
     cdef _predict_own(self, Py_ssize_t i)
     @cython.locals(R=cython.double, now=cython.double, x=cython.double, y=cython.double,

@@ -163,7 +163,7 @@ class Simulation:
         b.segments.append((b.t0, b.state, (b.x, b.y), (b.vx, b.vy), (b.ax, b.ay), b.w, b.dw))
 
     def _emit(self, kind: str, balls: tuple[str, ...], **extra: str) -> None:
-        self.events.append(Event.model_construct(t=self.now, type=kind, balls=balls, **extra))
+        self.events.append(Event.trusted(self.now, kind, balls, **extra))
 
     # -- prediction ----------------------------------------------------------------------
 
@@ -172,7 +172,7 @@ class Simulation:
         heapq.heappush(self.heap, (t, self.seq, kind, i, j, self.balls[i].version, vj, data))
         self.seq += 1
 
-    def _predict(self, *changed: int) -> None:
+    def _predict(self, changed: tuple[int, ...]) -> None:
         """Queue the next events of the balls whose motion just changed.
 
         First each one's next event of its own, which bounds how long its path holds, then
@@ -303,7 +303,7 @@ class Simulation:
         self._set_motion(bi, va, wa)
         self._set_motion(bj, vb, wb)
         self._emit("ball_ball", (bi.name, bj.name))
-        self._predict(i, j)
+        self._predict((i, j))
 
     def _collide_cushion(self, i: int, normal: tuple[float, float], kind: str, **names) -> None:
         b = self.balls[i]
@@ -334,7 +334,7 @@ class Simulation:
                     w_new = motion.rolling_spin(v_new, w_new[2], self.p.R)
         self._set_motion(b, v_new, w_new)
         self._emit(kind, (b.name,), **names)
-        self._predict(i)
+        self._predict((i,))
 
     def _rest(self, va, wa, vb, wb, n):
         """Two balls meeting at a crawl, which friction would keep pressing together.
@@ -441,7 +441,7 @@ class Simulation:
             # A roll ends at rest (a slide can end at rest directly: then both events).
             self._set_motion(b, (0.0, 0.0), (0.0, 0.0, b.w[2]))
             self._emit(f"rolling_{b.state}", (b.name,))
-        self._predict(i)
+        self._predict((i,))
 
     def _spin_stop(self, i: int) -> None:
         """w_z reached zero mid-path: a new output segment, the same path, no event."""
@@ -479,7 +479,7 @@ class Simulation:
             k = self.index[name]
             self._set_motion(self.balls[k], m.v, m.w)
             moving.append(k)
-        self._predict(*moving)
+        self._predict(tuple(moving))
 
     def run(self) -> Shot:
         self._start()
@@ -526,10 +526,7 @@ class Simulation:
             final[b.name] = BallFinal.model_construct(
                 pos=None if b.state == POCKETED else (b.x, b.y), state=b.state, pocket=b.pocket
             )
-            trajectories[b.name] = [
-                Segment.model_construct(t=s[0], state=s[1], r=s[2], v=s[3], a=s[4], w=s[5], dw=s[6])
-                for s in b.segments
-            ]
+            trajectories[b.name] = [Segment.trusted(*s) for s in b.segments]
         return Shot.model_construct(
             events=self.events,
             trajectories=trajectories,

@@ -13,7 +13,7 @@ serialises to JSON and to msgpack.
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Any, Literal
 
 import msgpack
 from pydantic import BaseModel, ConfigDict
@@ -33,6 +33,20 @@ EventType = Literal[
 MotionState = Literal["stationary", "spinning", "sliding", "rolling", "pocketed"]
 
 
+def _trusted(cls: type[BaseModel], values: dict[str, Any], given: set[str]) -> Any:
+    """What `cls.model_construct(**given values)` makes, from `values` holding every field and
+    `given`, the names of those passed: the engine builds hundreds of these per shot, and
+    model_construct's general path (aliases, defaults, private attributes) costs several times
+    more. Only for the models here, which have none of those (tests/physics_kernel checks that
+    the two agree)."""
+    m = cls.__new__(cls)
+    object.__setattr__(m, "__dict__", values)
+    object.__setattr__(m, "__pydantic_fields_set__", given)
+    object.__setattr__(m, "__pydantic_extra__", None)
+    object.__setattr__(m, "__pydantic_private__", None)
+    return m
+
+
 class Event(BaseModel):
     """One thing that happened at time t.
 
@@ -49,6 +63,13 @@ class Event(BaseModel):
     cushion: str | None = None
     pocket: str | None = None
 
+    @classmethod
+    def trusted(cls, t: float, type: str, balls: tuple[str, ...], **names: str) -> Event:
+        """An event from the engine, unvalidated (see _trusted); names: cushion, pocket."""
+        values = {"t": t, "type": type, "balls": balls, "cushion": None, "pocket": None}
+        values.update(names)
+        return _trusted(cls, values, {"t", "type", "balls", *names})
+
 
 class Segment(BaseModel):
     """A stretch of one ball's motion in one state, from t to the next segment's t."""
@@ -62,6 +83,15 @@ class Segment(BaseModel):
     a: tuple[float, float]
     w: tuple[float, float, float]
     dw: tuple[float, float, float]
+
+    @classmethod
+    def trusted(cls, t, state, r, v, a, w, dw) -> Segment:
+        """A segment from the engine, unvalidated (see _trusted)."""
+        values = {"t": t, "state": state, "r": r, "v": v, "a": a, "w": w, "dw": dw}
+        return _trusted(cls, values, set(_SEGMENT_FIELDS))
+
+
+_SEGMENT_FIELDS = frozenset(Segment.model_fields)
 
 
 class BallFinal(BaseModel):
