@@ -26,7 +26,7 @@ cdef class Simulation:
     cdef public object scene, p, models, ball_ball, cushion, geometry
     cdef public bint spin
     cdef public double sin_theta, now
-    cdef public list balls, heap, events, cushion_steps
+    cdef public list balls, heap, events, cushion_steps, rails, circles
     cdef public dict index
     cdef public Py_ssize_t seq, contacts_checked, quartics_solved
 
@@ -43,10 +43,9 @@ cdef class Simulation:
                    speed=cython.double, accel=cython.double, nx=cython.double,
                    ny=cython.double, g0=cython.double, g1=cython.double, c2=cython.double,
                    tx=cython.double, ty=cython.double, cx=cython.double, cy=cython.double,
+                   px=cython.double, py=cython.double,
                    s=cython.double, radius=cython.double)
     cdef tuple _table_contact(self, _Ball b, double horizon)
-    @cython.locals(dx=cython.double, dy=cython.double)
-    cdef object _circle_contact(self, _Ball b, object center, double radius, double horizon)
     @cython.locals(now=cython.double, xj=cython.double, yj=cython.double, vxj=cython.double,
                    vyj=cython.double)
     cdef _predict_pair(self, Py_ssize_t i, Py_ssize_t j, _Ball bi, _Ball bj)

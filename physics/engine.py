@@ -126,7 +126,17 @@ class Simulation:
         ]
         self.cushion: Callable = CUSHION_MODELS[scene.models.cushion]
         self.sin_theta = scene.sin_theta
-        self.geometry = scene.geometry
+        self.geometry = g = scene.geometry
+        R = scene.params.R
+        #: The table as the contact search reads it, unpacked once per shot: each cushion
+        #: segment with its start, normal and direction; each jaw (its circle grown by R, which
+        #: is where a ball's centre meets it) and pocket with its centre and contact radius.
+        self.rails = [
+            (s, s.p1[0], s.p1[1], s.normal[0], s.normal[1], s.p2[0] - s.p1[0], s.p2[1] - s.p1[1])
+            for s in g.segments
+        ]
+        self.circles = [("jaw", c, c.center[0], c.center[1], c.radius + R) for c in g.jaws]
+        self.circles += [("pocket", c, c.center[0], c.center[1], c.radius + 0.0) for c in g.pockets]
         self.balls = [_Ball(name, x, y) for name, (x, y) in scene.positions.items()]
         self.index = {b.name: k for k, b in enumerate(self.balls)}
         self.heap: list[tuple] = []
@@ -213,9 +223,8 @@ class Simulation:
         best: tuple[float, str, object] = (math.inf, "", None)
         x, y, vx, vy, ax, ay = b.x, b.y, b.vx, b.vy, b.ax, b.ay
         speed, accel = math.hypot(vx, vy), math.hypot(ax, ay)
-        for seg in self.geometry.segments:
-            nx, ny = seg.normal
-            g0 = (x - seg.p1[0]) * nx + (y - seg.p1[1]) * ny - R
+        for seg, px, py, nx, ny, tx, ty in self.rails:
+            g0 = (x - px) * nx + (y - py) * ny - R
             if g0 > (speed + 0.5 * accel * horizon) * horizon:
                 continue
             g1 = vx * nx + vy * ny
@@ -228,25 +237,18 @@ class Simulation:
             if t is None:
                 continue
             # Does the contact fall on this segment, not on the line beyond it?
-            tx, ty = seg.p2[0] - seg.p1[0], seg.p2[1] - seg.p1[1]
-            cx = x + (vx + 0.5 * ax * t) * t - seg.p1[0]
-            cy = y + (vy + 0.5 * ay * t) * t - seg.p1[1]
+            cx = x + (vx + 0.5 * ax * t) * t - px
+            cy = y + (vy + 0.5 * ay * t) * t - py
             s = (cx * tx + cy * ty) / (tx * tx + ty * ty)
             if 0.0 <= s <= 1.0:
                 horizon = t
                 best = (now + t, "cushion", seg)
-        for kind, circles in (("jaw", self.geometry.jaws), ("pocket", self.geometry.pockets)):
-            for circle in circles:
-                radius = circle.radius + (R if kind == "jaw" else 0.0)
-                t = self._circle_contact(b, circle.center, radius, horizon)
-                if t is not None:
-                    horizon = t
-                    best = (now + t, kind, circle)
+        for kind, circle, cx, cy, radius in self.circles:
+            t = self._contact_time(x - cx, y - cy, vx, vy, ax, ay, radius, horizon)
+            if t is not None:
+                horizon = t
+                best = (now + t, kind, circle)
         return best
-
-    def _circle_contact(self, b: _Ball, center, radius, horizon):
-        dx, dy = b.x - center[0], b.y - center[1]
-        return self._contact_time(dx, dy, b.vx, b.vy, b.ax, b.ay, radius, horizon)
 
     def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
         if bi.state not in _MOVING and bj.state not in _MOVING:
