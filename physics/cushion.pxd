@@ -24,27 +24,29 @@ cdef class _Impact:
                    c2=cython.double, c3=cython.double, c4=cython.double, c5=cython.double,
                    d0=cython.double, d1=cython.double, d2=cython.double, d3=cython.double,
                    d4=cython.double, d5=cython.double, h2=cython.double, h6=cython.double)
-    cdef tuple rk4(self, tuple y, tuple k1, double h)
+    cdef State rk4(self, State y, State k1, double h)
     @cython.locals(s=cython.double, c=cython.double)
-    cdef tuple slips(self, tuple y)
+    cdef (double, double, double, double) slips(self, State y)
     @cython.locals(s=cython.double, c=cython.double, grip_i=cython.double,
                    grip_c=cython.double, eps2=cython.double, snap2=cython.double,
                    best=cython.double, y0=cython.double, y1=cython.double, y2=cython.double,
                    y3=cython.double, y4=cython.double, d0=cython.double, d1=cython.double,
                    d2=cython.double, d3=cython.double, d4=cython.double, sx=cython.double,
                    sy=cython.double, dx=cython.double, dy=cython.double, grip=cython.double,
-                   size=cython.double, closing=cython.double, turning=cython.double)
-    cdef tuple step_limit(self, tuple y, tuple d)
+                   size=cython.double, closing=cython.double, turning=cython.double,
+                   contact=cython.int)
+    cdef (double, int) step_limit(self, State y, State d)
     @cython.locals(s=cython.double, c=cython.double, x_i=cython.double, y_i=cython.double,
                    x_c=cython.double, y_c=cython.double, fix=cython.double, fiy=cython.double,
                    fcx=cython.double, fcy=cython.double)
-    cdef tuple zero_slip(self, tuple y, int contact)
+    cdef State zero_slip(self, State y, int contact)
 
 
 @cython.locals(impact=_Impact, R=cython.double, s=cython.double, c=cython.double,
                vx=cython.double, vy=cython.double, Wx=cython.double, Wy=cython.double,
                Wz=cython.double, h=cython.double, target=cython.double, step=cython.double,
-               lo=cython.double, m0=cython.double, m1=cython.double, u=cython.double)
+               lo=cython.double, m0=cython.double, m1=cython.double, u=cython.double,
+               y=State, d=State, y1=State, d1=State, end=State, contact=cython.int)
 cpdef tuple mathavan(object v, object w, object normal, object p, double sin_theta,
                      object work=*)
 @cython.locals(u2=cython.double, u3=cython.double)

@@ -280,8 +280,8 @@ class _Impact:
         s, c, grip_i, grip_c = self.s, self.c, self.grip_i, self.grip_c
         eps2, snap2 = self.eps2, self.snap2
         best = math.inf
-        y0, y1, y2, y3, y4 = y[:5]
-        d0, d1, d2, d3, d4 = d[:5]
+        y0, y1, y2, y3, y4 = y[0], y[1], y[2], y[3], y[4]
+        d0, d1, d2, d3, d4 = d[0], d[1], d[2], d[3], d[4]
         for contact, sx, sy, dx, dy, grip in (
             (0, y0 + s * y3 - c * y4, y2 - s * y1, d0 + s * d3 - c * d4, d2 - s * d1, grip_i),
             (1, y0 - y3, y1 + y2, d0 - d3, d1 + d2, grip_c),
