@@ -132,6 +132,18 @@ class Shot(BaseModel):
     def to_msgpack(self) -> bytes:
         return msgpack.packb(self.model_dump(mode="json", exclude_none=True))
 
+    def __reduce__(self) -> tuple:
+        """Pickle as plain tuples (rebuilt by `_unpickle_shot`): a batch's shots come back
+        from the worker processes this way, and pydantic's own pickling of the hundreds of
+        small models in a shot costs more than simulating it."""
+        events = [(e.t, e.type, e.balls, e.cushion, e.pocket) for e in self.events]
+        trajectories = {
+            name: [(s.t, s.state, s.r, s.v, s.a, s.w, s.dw) for s in segs]
+            for name, segs in self.trajectories.items()
+        }
+        final = {name: (f.pos, f.state, f.pocket) for name, f in self.final.items()}
+        return _unpickle_shot, (events, trajectories, final, self.duration, self.models)
+
     @classmethod
     def from_msgpack(cls, data: bytes) -> Shot:
         return cls.model_validate(msgpack.unpackb(data))
@@ -152,3 +164,26 @@ class Shot(BaseModel):
             seg.r[0] + seg.v[0] * tau + 0.5 * seg.a[0] * tau * tau,
             seg.r[1] + seg.v[1] * tau + 0.5 * seg.a[1] * tau * tau,
         )
+
+
+def _unpickle_shot(events, trajectories, final, duration, models) -> Shot:
+    """The Shot that Shot.__reduce__ took apart, built as the engine builds it."""
+    return Shot.model_construct(
+        events=[
+            Event.trusted(t, kind, balls, **_given(cushion=cushion, pocket=pocket))
+            for t, kind, balls, cushion, pocket in events
+        ],
+        trajectories={
+            name: [Segment.trusted(*s) for s in segs] for name, segs in trajectories.items()
+        },
+        final={
+            name: BallFinal.model_construct(pos=pos, state=state, pocket=pocket)
+            for name, (pos, state, pocket) in final.items()
+        },
+        duration=duration,
+        models=models,
+    )
+
+
+def _given(**names: str | None) -> dict[str, str]:
+    return {k: v for k, v in names.items() if v is not None}

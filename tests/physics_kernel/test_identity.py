@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 
 from bench.adversarial import valid_scene
 from physics import kernel
-from physics.examples import BREAKS
+from physics.examples import BREAKS, single_shot
 from tests.physics.test_invariants import flush_by_a_pocket, scenes
 from tests.physics_kernel.engines import engine_name, outcome
 
@@ -35,6 +35,12 @@ def same(other, scene):
 @pytest.mark.parametrize(("speed", "gap"), [(8.0, 0.0), (10.0, 1e-9), (3.0, 1e-4)])
 def test_breaks(other, name, speed, gap):
     assert same(other, BREAKS[name](speed=speed, gap=gap))[0] == "shot"
+
+
+@pytest.mark.parametrize("heading", [0.0, 67.0, 123.4, 250.0])
+def test_single_shots(other, heading):
+    for speed in (0.3, 1.0, 4.0, 11.0):
+        same(other, single_shot(speed, heading))
 
 
 @pytest.mark.parametrize(
