@@ -15,6 +15,7 @@ returns what Python's does and raises where it raises (a domain or range error):
 cimport cython
 from libc cimport math as libm
 from libc.math cimport copysign, isfinite, nextafter
+from libc.stdint cimport uint64_t
 
 
 cdef extern from "<float.h>":
@@ -37,6 +38,11 @@ cdef inline double exp(double x) except? -1.0:
     return r
 
 
+cdef union _Bits:
+    double d
+    uint64_t u
+
+
 cdef inline void _product(double x, double y, double *hi, double *lo) noexcept nogil:
     """x * y = hi + lo exactly (Dekker's product, with Veltkamp's split at 2^27 + 1)."""
     cdef double t = x * 134217729.0
@@ -51,11 +57,21 @@ cdef inline void _product(double x, double y, double *hi, double *lo) noexcept n
     lo[0] = p - hi[0] + q + xl * yl
 
 
-cdef inline void _add_product(double x, double y, double *sums) noexcept nogil:
-    """Add x * y = hi + lo to the sums: hi to sums[0] (its rounding error to sums[2]), lo to
-    sums[1]."""
-    cdef double hi, lo, s
-    _product(x, y, &hi, &lo)
+cdef inline void _square(double x, double *hi, double *lo) noexcept nogil:
+    """_product(x, x), splitting x once."""
+    cdef double t = x * 134217729.0
+    cdef double xh = t - (t - x)
+    cdef double xl = x - xh
+    cdef double p = xh * xh
+    cdef double q = xh * xl + xl * xh
+    hi[0] = p + q
+    lo[0] = p - hi[0] + q + xl * xl
+
+
+cdef inline void _add(double hi, double lo, double *sums) noexcept nogil:
+    """Add an exact product hi + lo to the sums: hi to sums[0] (its rounding error to sums[2]),
+    lo to sums[1]."""
+    cdef double s
     s = sums[0] + hi
     sums[2] += (sums[0] - s) + hi
     sums[0] = s
@@ -66,17 +82,29 @@ cdef inline void _add_product(double x, double y, double *sums) noexcept nogil:
 cdef inline double _norm(double a, double b, double big) noexcept nogil:
     """sqrt(a^2 + b^2) for finite a, b >= 0 with big = max(a, b) > 0."""
     cdef int e
-    cdef double scale, h, x
+    cdef double scale, h, x, hi, lo
     cdef double sums[3]  # csum (starts at 1, so that its sums are exact), frac1, frac2
-    libm.frexp(big, &e)
-    if e < -1023:  # subnormal: 2^-e would overflow, so scale up by DBL_MIN first
-        return DBL_MIN * _norm(a / DBL_MIN, b / DBL_MIN, big / DBL_MIN)
-    scale = libm.ldexp(1.0, -e)
+    cdef _Bits bits
+    bits.d = big
+    cdef int biased = <int>((bits.u >> 52) & 0x7ff)
+    if 0 < biased <= 2044:
+        # frexp and ldexp by the bits: big = m 2^e with m in [0.5, 1), and scale = 2^-e
+        e = biased - 1022
+        bits.u = (<uint64_t>(1023 - e)) << 52
+        scale = bits.d
+    else:
+        libm.frexp(big, &e)
+        if e < -1023:  # subnormal: 2^-e would overflow, so scale up by DBL_MIN first
+            return DBL_MIN * _norm(a / DBL_MIN, b / DBL_MIN, big / DBL_MIN)
+        scale = libm.ldexp(1.0, -e)
     sums[0], sums[1], sums[2] = 1.0, 0.0, 0.0
-    _add_product(a * scale, a * scale, sums)
-    _add_product(b * scale, b * scale, sums)
+    _square(a * scale, &hi, &lo)
+    _add(hi, lo, sums)
+    _square(b * scale, &hi, &lo)
+    _add(hi, lo, sums)
     h = libm.sqrt(sums[0] - 1.0 + (sums[1] + sums[2]))
-    _add_product(-h, h, sums)  # the residual a^2 + b^2 - h^2, nearly exact
+    _product(-h, h, &hi, &lo)  # the residual a^2 + b^2 - h^2, nearly exact
+    _add(hi, lo, sums)
     x = sums[0] - 1.0 + (sums[1] + sums[2])
     h += x / (2.0 * h)
     return h / scale

@@ -71,7 +71,7 @@ def arguments(n, rng):
         xs.append(rng.uniform(-1.0, 1.0) * 10.0**e)
         ys.append(rng.uniform(-1.0, 1.0) * 10.0 ** (e + rng.choice([0.0, rng.uniform(-20, 20)])))
     edges = [0.0, -0.0, 1.0, 3.0, 5e-324, 1e-310, 2.2250738585072014e-308, 1.7976931348623157e308]
-    edges += [1e300, -1e-300, math.inf, -math.inf, math.nan]
+    edges += [1e300, 2e307, 4.5e307, 9e307, -1e-300, math.inf, -math.inf, math.nan]
     for a in edges:
         for b in edges:
             xs.append(a)
