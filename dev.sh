@@ -21,12 +21,13 @@ setup_python() {
     fi
     # The compiled kernel (setup.py), rebuilt in place when its sources changed since: else
     # the extension modules built from the old source would shadow the edited .py files.
-    "$VENV/bin/python" setup.py -q build_ext --inplace 2>&1 | grep -v "^copying" >&2 || true
+    "$VENV/bin/python" setup.py -q build_ext --inplace >"$VENV/kernel-build.log" 2>&1 || true
 }
 
 require_kernel() {  # the tests compare the two paths: the kernel must have been built
     if ! "$VENV/bin/python" -c 'from physics import kernel; assert kernel.compiled()' 2>/dev/null; then
-        echo "dev.sh: the compiled kernel did not build (see the messages above)" >&2
+        cat "$VENV/kernel-build.log" >&2
+        echo "dev.sh: the compiled kernel did not build (the build's messages are above)" >&2
         exit 1
     fi
 }
