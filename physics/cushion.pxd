@@ -3,6 +3,9 @@ cimport cython
 
 cimport physics.pymath as math
 
+cdef double _ZERO_SLIP, _SNAP_SLIP, _LAND, _STIFF, _TURN
+cdef int _MAX_STEPS
+
 ctypedef (double, double, double, double, double, double) State
 
 
@@ -46,7 +49,8 @@ cdef class _Impact:
                vx=cython.double, vy=cython.double, Wx=cython.double, Wy=cython.double,
                Wz=cython.double, h=cython.double, target=cython.double, step=cython.double,
                lo=cython.double, m0=cython.double, m1=cython.double, u=cython.double,
-               y=State, d=State, y1=State, d1=State, end=State, contact=cython.int)
+               y=State, d=State, y1=State, d1=State, end=State, contact=cython.int,
+               taken=cython.int)
 cpdef tuple mathavan(object v, object w, object normal, object p, double sin_theta,
                      object work=*)
 @cython.locals(u2=cython.double, u3=cython.double)
