@@ -3,9 +3,10 @@
     .venv/bin/python bench/shots.py [--repeat N] [--batch N] [--pooltool-python PY]
 
 Each path runs in its own interpreter (BILLIARDS_PURE_PYTHON=1 for the pure-Python engine, the
-compiled kernel otherwise), one after the other in the same run, so the ratios compare like
-with like on a shared machine. For each scene: events, the median wall time of a shot (from
-the parsed scene to the Shot), events per second, and the ratio of the two paths. Then the
+compiled kernel otherwise), and the two take turns, a few shots at a time, so that both see the
+same load on a shared machine. For each scene: events, the median CPU time of a shot (from the
+parsed scene to the Shot; CPU time of the worker, which other work on the machine inflates less
+than wall time), events per second, and the ratio of the two paths. Then the
 first shot in a fresh interpreter (import, then one shot: any warm-up a server pays on its
 first request), the batch throughput of simulate_many over every core for the bot's kind of
 shot (the single shot at random headings and speeds), and, with --pooltool-python (an
@@ -47,7 +48,8 @@ print(t1 - t0, t2 - t1, kernel.compiled())
 
 #: The same kind of shot in pooltool (ekiefl/pooltool, a numba event engine), run with another
 #: interpreter that has it installed: its own nine-ball rack and table, cue ball at 8 m/s into
-#: the 1 with a little follow. Prints: first call (s), median (s), events.
+#: the 1 with a little follow. Prints: first call (s), median (s), events, version (CPU time,
+#: as for this engine).
 POOLTOOL = """
 import statistics, sys, time
 import pooltool as pt
@@ -63,9 +65,9 @@ def shot():
 times = []
 for _ in range(int(sys.argv[2]) + 1):
     system = shot()
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     pt.simulate(system, inplace=True)
-    times.append(time.perf_counter() - t0)
+    times.append(time.process_time() - t0)
 print(times[0], statistics.median(times[1:]), len(system.events), pt.__version__)
 """
 
@@ -88,17 +90,6 @@ def bot_shots(n: int) -> list[dict]:
     return [single_shot(rng.uniform(0.5, 4.0), rng.uniform(0.0, 360.0)) for _ in range(n)]
 
 
-def median_ms(scene: dict, repeat: int) -> float:
-    parsed = parse_scene(scene)
-    simulate(parsed)  # warm
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        simulate(parsed)
-        times.append(time.perf_counter() - t0)
-    return 1e3 * statistics.median(times)
-
-
 def batch_rate(n: int, workers: int) -> float:
     """Shots per second of simulate_many on `workers` processes (pool already started)."""
     shots = [parse_scene(s) for s in bot_shots(n)]
@@ -108,30 +99,78 @@ def batch_rate(n: int, workers: int) -> float:
     return n / (time.perf_counter() - t0)
 
 
+def cpu_ms(scene: dict, repeat: int) -> list[float]:
+    """CPU times (ms) of `repeat` shots of a parsed scene, after one to warm up."""
+    parsed = parse_scene(scene)
+    simulate(parsed)
+    times = []
+    for _ in range(repeat):
+        t0 = time.process_time()
+        simulate(parsed)
+        times.append(1e3 * (time.process_time() - t0))
+    return times
+
+
 def worker(args: argparse.Namespace) -> None:
-    """One path's figures, as JSON on stdout (run by main with the path's environment)."""
-    out = {"compiled": kernel.compiled(), "rows": {}}
-    for name, scene in scenes(args.speed).items():
-        events = len(simulate(scene).events)
-        out["rows"][name] = {"events": events, "ms": median_ms(scene, args.repeat)}
-    cores = os.cpu_count() or 1
-    out["batch"] = {str(w): batch_rate(args.batch, w) for w in sorted({1, cores})}
-    print(json.dumps(out))
+    """One path's timings, on request: reads `SCENE REPEAT` lines, answers each with a JSON
+    line (run by main with the path's environment); `batch` answers the batch throughput."""
+    rows = scenes(args.speed)
+    print(json.dumps({"compiled": kernel.compiled()}), flush=True)
+    for line in sys.stdin:
+        name, repeat = line.rsplit(" ", 1)
+        if name == "batch":
+            cores = os.cpu_count() or 1
+            answer = {str(w): batch_rate(int(repeat), w) for w in sorted({1, cores})}
+        else:
+            scene = rows[name]
+            answer = {"events": len(simulate(scene).events), "ms": cpu_ms(scene, int(repeat))}
+        print(json.dumps(answer), flush=True)
 
 
-def run_path(path: str, args: argparse.Namespace) -> dict:
-    env = os.environ | {kernel.PURE_ENV: PATHS[path]}
-    command = [sys.executable, __file__, "--worker", "--repeat", str(args.repeat)]
-    command += ["--batch", str(args.batch), "--speed", str(args.speed)]
-    print(f"timing the {path} path ...", file=sys.stderr, flush=True)
-    result = json.loads(
-        subprocess.run(
-            command, env=env, capture_output=True, text=True, check=True, cwd=ROOT
-        ).stdout
-    )
-    if result["compiled"] != (path == "compiled"):
-        raise SystemExit(f"the {path} path is not available (is the kernel built?)")
-    return result
+class Path:
+    """A worker interpreter running one path of the engine."""
+
+    def __init__(self, path: str, args: argparse.Namespace) -> None:
+        env = os.environ | {kernel.PURE_ENV: PATHS[path]}
+        command = [sys.executable, __file__, "--worker", "--speed", str(args.speed)]
+        self.process = subprocess.Popen(
+            command, env=env, cwd=ROOT, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True
+        )
+        if json.loads(self.process.stdout.readline())["compiled"] != (path == "compiled"):
+            raise SystemExit(f"the {path} path is not available (is the kernel built?)")
+
+    def ask(self, name: str, repeat: int) -> dict:
+        self.process.stdin.write(f"{name} {repeat}\n")
+        self.process.stdin.flush()
+        return json.loads(self.process.stdout.readline())
+
+    def close(self) -> None:
+        self.process.stdin.close()
+        self.process.wait()
+
+
+def measure(args: argparse.Namespace) -> dict[str, dict]:
+    """Both paths' figures, the paths taking turns five shots at a time."""
+    paths = {path: Path(path, args) for path in PATHS}
+    results: dict[str, dict] = {path: {"rows": {}} for path in PATHS}
+    for name in scenes(args.speed):
+        print(f"timing {name} ...", file=sys.stderr, flush=True)
+        for path in PATHS:
+            results[path]["rows"][name] = {"ms": []}
+        for _ in range(max(1, args.repeat // 5)):
+            for path, worker_ in paths.items():
+                answer = worker_.ask(name, 5)
+                row = results[path]["rows"][name]
+                row["events"] = answer["events"]
+                row["ms"] += answer["ms"]
+        for path in PATHS:
+            row = results[path]["rows"][name]
+            row["ms"] = statistics.median(row["ms"])
+    print("timing the batches ...", file=sys.stderr, flush=True)
+    for path, worker_ in paths.items():
+        results[path]["batch"] = worker_.ask("batch", args.batch)
+        worker_.close()
+    return results
 
 
 def first_call(path: str) -> tuple[float, float]:
@@ -199,7 +238,8 @@ def savings(speed: float, repeat: int) -> None:
         for label, models in VARIANTS.items():
             scene = make(speed=speed) | {"models": models}
             events = len(simulate(scene).events)
-            print(f"{name:<20} {label:<19} {events:>6} {median_ms(scene, repeat):>10.3f}")
+            ms = statistics.median(cpu_ms(scene, repeat))
+            print(f"{name:<20} {label:<19} {events:>6} {ms:>10.3f}")
     print(f"\n{'break':<20} {'contacts checked':>16} {'quartics solved':>15} {'culled':>7}")
     for name, make in BREAKS.items():
         sim = Simulation(parse_scene(make(speed=speed)))
@@ -225,7 +265,7 @@ def main() -> None:
         f"break speed {args.speed} m/s, median of {args.repeat} runs per row, "
         f"{os.cpu_count()} cores\n"
     )
-    results = {path: run_path(path, args) for path in PATHS}
+    results = measure(args)
     side_by_side(results)
     first_calls()
     batches(results, args.batch)

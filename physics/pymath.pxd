@@ -43,29 +43,35 @@ cdef union _Bits:
     uint64_t u
 
 
-cdef inline void _product(double x, double y, double *hi, double *lo) noexcept nogil:
-    """x * y = hi + lo exactly (Dekker's product, with Veltkamp's split at 2^27 + 1)."""
+cdef inline void _split(double x, double *hi, double *lo) noexcept nogil:
+    """x = hi + lo, hi holding the upper half of x's bits (Veltkamp's split, at 2^27 + 1)."""
     cdef double t = x * 134217729.0
-    cdef double xh = t - (t - x)
-    cdef double xl = x - xh
-    t = y * 134217729.0
-    cdef double yh = t - (t - y)
-    cdef double yl = y - yh
+    hi[0] = t - (t - x)
+    lo[0] = x - hi[0]
+
+
+cdef inline void _exact(double xh, double xl, double yh, double yl, double *hi,
+                        double *lo) noexcept nogil:
+    """(xh + xl) (yh + yl) = hi + lo exactly, from split factors (Dekker's product)."""
     cdef double p = xh * yh
     cdef double q = xh * yl + xl * yh
     hi[0] = p + q
     lo[0] = p - hi[0] + q + xl * yl
 
 
+cdef inline void _product(double x, double y, double *hi, double *lo) noexcept nogil:
+    """x * y = hi + lo exactly."""
+    cdef double xh, xl, yh, yl
+    _split(x, &xh, &xl)
+    _split(y, &yh, &yl)
+    _exact(xh, xl, yh, yl, hi, lo)
+
+
 cdef inline void _square(double x, double *hi, double *lo) noexcept nogil:
     """_product(x, x), splitting x once."""
-    cdef double t = x * 134217729.0
-    cdef double xh = t - (t - x)
-    cdef double xl = x - xh
-    cdef double p = xh * xh
-    cdef double q = xh * xl + xl * xh
-    hi[0] = p + q
-    lo[0] = p - hi[0] + q + xl * xl
+    cdef double xh, xl
+    _split(x, &xh, &xl)
+    _exact(xh, xl, xh, xl, hi, lo)
 
 
 cdef inline void _add(double hi, double lo, double *sums) noexcept nogil:
