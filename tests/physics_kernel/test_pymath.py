@@ -14,8 +14,6 @@ from pathlib import Path
 
 import pytest
 
-from physics import kernel
-
 ROOT = Path(__file__).resolve().parents[2]
 PROBE = """
 cimport physics.pymath as m
@@ -108,10 +106,3 @@ def test_exp_range_error(probe):
     with pytest.raises(OverflowError):
         probe.exp(1000.0)
     assert probe.exp(-1000.0) == 0.0
-
-
-def test_the_kernel_uses_it():
-    """Each kernel module's .pxd maps its `math` to pymath (so the .py needs no change)."""
-    for name in kernel.MODULES:
-        pxd = ROOT / f"{name.replace('.', '/')}.pxd"
-        assert "cimport physics.pymath as math" in pxd.read_text()
