@@ -12,6 +12,14 @@ first request), the batch throughput of simulate_many over every core for the bo
 shot (the single shot at random headings and speeds), and, with --pooltool-python (an
 interpreter with pooltool-billiards installed), pooltool's own nine-ball break in the same run.
 Last, on the compiled path: what the cheaper model choices save and what the culling skips.
+
+pooltool-billiards 0.6.0 pins a development build of panda3d (its 3D front end) that PyPI does
+not carry; its physics runs on the released panda3d 1.10:
+
+    python3 -m venv /tmp/pt && /tmp/pt/bin/pip install --no-deps pooltool-billiards==0.6.0
+    /tmp/pt/bin/pip install 'panda3d>=1.10.13,<1.11' panda3d-gltf panda3d-simplepbr numba \
+        'llvmlite>=0.44,<0.46' scipy attrs cattrs msgpack msgpack-numpy pyyaml click pillow \
+        h5py 'h11>=0.16' 'rich>=14,<15' 'numpy-quaternion>=2024.0.12'
 """
 
 from __future__ import annotations
