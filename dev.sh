@@ -19,6 +19,17 @@ setup_python() {
         rm -f "$VENV"/.installed-*
         touch "$stamp"
     fi
+    # The compiled kernel (setup.py), rebuilt in place when its sources changed since: else
+    # the extension modules built from the old source would shadow the edited .py files.
+    "$VENV/bin/python" setup.py -q build_ext --inplace >"$VENV/kernel-build.log" 2>&1 || true
+}
+
+require_kernel() {  # the tests compare the two paths: the kernel must have been built
+    if ! "$VENV/bin/python" -c 'from physics import kernel; assert kernel.compiled()' 2>/dev/null; then
+        cat "$VENV/kernel-build.log" >&2
+        echo "dev.sh: the compiled kernel did not build (the build's messages are above)" >&2
+        exit 1
+    fi
 }
 
 need_debian_package() {  # need_debian_package BINARY PACKAGE
@@ -51,14 +62,25 @@ case "${1:-}" in
         exec "$VENV/bin/billiards" serve "$@"
         ;;
     test)
+        need_debian_package gcc gcc
         setup_python
+        require_kernel
         need_debian_package redis-server redis-server
         need_debian_package chromium chromium
         setup_web
         shift
         "$VENV/bin/ruff" check .
         "$VENV/bin/ruff" format --check .
-        exec "$VENV/bin/pytest" -q "$@"
+        if [ $# -gt 0 ]; then
+            exec "$VENV/bin/pytest" -q "$@"
+        fi
+        # The whole suite on the compiled kernel, then the physics suites on the pure-Python
+        # engine (docs/physics.md, "The compiled kernel"); tests/physics_kernel compares the two.
+        echo "dev.sh: the whole suite, compiled kernel"
+        "$VENV/bin/pytest" -q
+        echo "dev.sh: the physics suites, pure-Python engine (BILLIARDS_PURE_PYTHON=1)"
+        BILLIARDS_PURE_PYTHON=1 exec "$VENV/bin/pytest" -q \
+            tests/physics tests/physics_models tests/accuracy tests/physics_kernel
         ;;
     *)
         echo "usage: bash dev.sh serve [--host H] [--port P] | bash dev.sh test [pytest args]" >&2

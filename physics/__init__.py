@@ -2,13 +2,19 @@
 
 `simulate_scene(scene_dict)` is the whole engine behind `billiards simulate`; `simulate`
 returns the full `Shot` (with per-ball piecewise-polynomial trajectories) for callers that want
-more than the summary.
+more than the summary; `simulate_many` runs a batch of scenes over every core.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from physics import kernel
+
+if kernel.pure_requested():
+    kernel.use_source()
+
+from physics.batch import simulate_many
 from physics.engine import BudgetExceeded, Simulation, SimulationError
 from physics.scene import Scene, SceneError, parse_scene, scene_from_json
 from physics.trajectory import Shot
@@ -27,6 +33,7 @@ __all__ = [
     "parse_scene",
     "scene_from_json",
     "simulate",
+    "simulate_many",
     "simulate_scene",
 ]
 

@@ -199,6 +199,128 @@ def _force_law(s: float, c: float, mu_w: float, mu_s: float, eps: float) -> Call
     return forces
 
 
+class _Impact:
+    """The equations of one impact (see `mathavan`): its angle, friction and slip scales."""
+
+    __slots__ = ("c", "eps", "eps2", "forces", "grip_c", "grip_i", "mu_s", "mu_w", "s", "snap2")
+
+    def __init__(self, s: float, c: float, p: Params, scale: float) -> None:
+        self.s, self.c = s, c
+        self.eps = _ZERO_SLIP * scale
+        snap = _SNAP_SLIP * scale
+        self.forces = _force_law(s, c, p.f_c, p.u_s, self.eps)
+        self.eps2, self.snap2 = self.eps * self.eps, snap * snap
+        # How fast each contact's friction can change its slip (the cloth's normal force is ~ s).
+        self.grip_i, self.grip_c = 2.5 * p.f_c, 3.5 * p.u_s * s
+        self.mu_w, self.mu_s = p.f_c, p.u_s
+
+    def rate(self, vx: float, vy: float, Wx: float, Wy: float, Wz: float) -> tuple[float, ...]:
+        """d(v_x, v_y, W_x, W_y, W_z, E)/dp: the state's rate per unit normal impulse."""
+        s, c, eps, mu_w, mu_s = self.s, self.c, self.eps, self.mu_w, self.mu_s
+        x_i = vx + s * Wy - c * Wz
+        y_i = -s * vy + Wx
+        x_c = vx - Wy
+        y_c = vy + Wx
+        slip_i = math.hypot(x_i, y_i)
+        slip_c = math.hypot(x_c, y_c)
+        if slip_i > eps and slip_c > eps:  # both sliding: the common case, inline
+            k = mu_w / slip_i
+            fix = -k * x_i
+            fiy = -k * y_i
+            k = mu_s * max(0.0, s - c * fiy) / slip_c
+            fcx = -k * x_c
+            fcy = -k * y_c
+        else:
+            fix, fiy, fcx, fcy = self.forces(x_i, y_i, x_c, y_c)
+        return (
+            fix + fcx,
+            -c - s * fiy + fcy,
+            2.5 * (fiy + fcy),
+            2.5 * (s * fix - fcx),
+            -2.5 * c * fix,
+            c * vy,
+        )
+
+    def rk4(self, y: tuple[float, ...], k1: tuple[float, ...], h: float) -> tuple[float, ...]:
+        y0, y1, y2, y3, y4, y5 = y
+        a0, a1, a2, a3, a4, a5 = k1
+        h2 = 0.5 * h
+        b0, b1, b2, b3, b4, b5 = self.rate(
+            y0 + h2 * a0, y1 + h2 * a1, y2 + h2 * a2, y3 + h2 * a3, y4 + h2 * a4
+        )
+        c0, c1, c2, c3, c4, c5 = self.rate(
+            y0 + h2 * b0, y1 + h2 * b1, y2 + h2 * b2, y3 + h2 * b3, y4 + h2 * b4
+        )
+        d0, d1, d2, d3, d4, d5 = self.rate(
+            y0 + h * c0, y1 + h * c1, y2 + h * c2, y3 + h * c3, y4 + h * c4
+        )
+        h6 = h / 6.0
+        return (
+            y0 + h6 * (a0 + 2.0 * (b0 + c0) + d0),
+            y1 + h6 * (a1 + 2.0 * (b1 + c1) + d1),
+            y2 + h6 * (a2 + 2.0 * (b2 + c2) + d2),
+            y3 + h6 * (a3 + 2.0 * (b3 + c3) + d3),
+            y4 + h6 * (a4 + 2.0 * (b4 + c4) + d4),
+            y5 + h6 * (a5 + 2.0 * (b5 + c5) + d5),
+        )
+
+    def slips(self, y: tuple[float, ...]) -> tuple[float, float, float, float]:
+        s, c = self.s, self.c
+        return y[0] + s * y[3] - c * y[4], -s * y[1] + y[2], y[0] - y[3], y[1] + y[2]
+
+    def step_limit(self, y: tuple[float, ...], d: tuple[float, ...]) -> tuple[float, int]:
+        """The largest step the slips allow, and a contact (0: I, 1: C) to set to zero first.
+
+        A step stops just short of where a slip closing on zero at its present rate would
+        reach it (_LAND), turns a sliding slip's direction by at most _TURN radians, and keeps
+        the step times the rate at which friction changes a slip, over the slip, below _STIFF
+        (Coulomb friction is stiff where a slip is small). A slip closing on zero that is
+        already too small to matter is set to zero rather than followed round its last turns.
+        """
+        s, c, grip_i, grip_c = self.s, self.c, self.grip_i, self.grip_c
+        eps2, snap2 = self.eps2, self.snap2
+        best = math.inf
+        y0, y1, y2, y3, y4 = y[0], y[1], y[2], y[3], y[4]
+        d0, d1, d2, d3, d4 = d[0], d[1], d[2], d[3], d[4]
+        for contact, sx, sy, dx, dy, grip in (
+            (0, y0 + s * y3 - c * y4, y2 - s * y1, d0 + s * d3 - c * d4, d2 - s * d1, grip_i),
+            (1, y0 - y3, y1 + y2, d0 - d3, d1 + d2, grip_c),
+        ):
+            size = sx * sx + sy * sy
+            if size <= eps2:
+                continue
+            closing = -(sx * dx + sy * dy)
+            if closing > 0.0:
+                if size < snap2 and grip > 0.0:
+                    return 0.0, contact
+                if _LAND * size < best * closing:
+                    best = _LAND * size / closing
+            turning = abs(sx * dy - sy * dx)
+            if _TURN * size < best * turning:
+                best = _TURN * size / turning
+            if grip > 0.0 and _STIFF * math.sqrt(size) < best * grip:
+                best = _STIFF * math.sqrt(size) / grip
+        return best, -1
+
+    def zero_slip(self, y: tuple[float, ...], contact: int) -> tuple[float, ...]:
+        """Cancel the slip of a contact that has (all but) reached zero, with the impulse that
+        holds it there: a correction of the size of the slip left."""
+        s, c = self.s, self.c
+        x_i, y_i, x_c, y_c = self.slips(y)
+        if contact == 0:
+            fix, fiy, fcx, fcy = -x_i / 3.5, -y_i / (2.5 + s * s), 0.0, 0.0
+        else:
+            fix, fiy, fcx, fcy = 0.0, 0.0, -x_c / 3.5, -y_c / 3.5
+        return (
+            y[0] + fix + fcx,
+            y[1] - s * fiy + fcy,
+            y[2] + 2.5 * (fiy + fcy),
+            y[3] + 2.5 * (s * fix - fcx),
+            y[4] - 2.5 * c * fix,
+            y[5],
+        )
+
+
 def mathavan(
     v: Vec2, w: Vec3, normal: Vec2, p: Params, sin_theta: float, work: list[int] | None = None
 ) -> tuple[Vec2, Vec3]:
@@ -227,133 +349,23 @@ def mathavan(
         return v, w
     R, s, c = p.R, sin_theta, math.sqrt(1.0 - sin_theta * sin_theta)
     vx, vy, Wx, Wy, Wz = _to_cushion(v, w, normal, R)
-    scale = abs(vx) + vy + abs(Wx) + abs(Wy) + abs(Wz)
-    eps = _ZERO_SLIP * scale
-    snap = _SNAP_SLIP * scale
-    forces = _force_law(s, c, p.f_c, p.u_s, eps)
-    eps2, snap2 = eps * eps, snap * snap
-    # How fast each contact's friction can change its slip (the cloth's normal force is ~ s).
-    grip_i, grip_c = 2.5 * p.f_c, 3.5 * p.u_s * s
-
-    hypot = math.hypot
-    mu_w, mu_s = p.f_c, p.u_s
-
-    def rate(vx: float, vy: float, Wx: float, Wy: float, Wz: float) -> tuple[float, ...]:
-        x_i = vx + s * Wy - c * Wz
-        y_i = -s * vy + Wx
-        x_c = vx - Wy
-        y_c = vy + Wx
-        slip_i = hypot(x_i, y_i)
-        slip_c = hypot(x_c, y_c)
-        if slip_i > eps and slip_c > eps:  # both sliding: the common case, inline
-            k = mu_w / slip_i
-            fix = -k * x_i
-            fiy = -k * y_i
-            k = mu_s * max(0.0, s - c * fiy) / slip_c
-            fcx = -k * x_c
-            fcy = -k * y_c
-        else:
-            fix, fiy, fcx, fcy = forces(x_i, y_i, x_c, y_c)
-        return (
-            fix + fcx,
-            -c - s * fiy + fcy,
-            2.5 * (fiy + fcy),
-            2.5 * (s * fix - fcx),
-            -2.5 * c * fix,
-            c * vy,
-        )
-
-    def rk4(y: tuple[float, ...], k1: tuple[float, ...], h: float) -> tuple[float, ...]:
-        y0, y1, y2, y3, y4, y5 = y
-        a0, a1, a2, a3, a4, a5 = k1
-        h2 = 0.5 * h
-        b0, b1, b2, b3, b4, b5 = rate(
-            y0 + h2 * a0, y1 + h2 * a1, y2 + h2 * a2, y3 + h2 * a3, y4 + h2 * a4
-        )
-        c0, c1, c2, c3, c4, c5 = rate(
-            y0 + h2 * b0, y1 + h2 * b1, y2 + h2 * b2, y3 + h2 * b3, y4 + h2 * b4
-        )
-        d0, d1, d2, d3, d4, d5 = rate(
-            y0 + h * c0, y1 + h * c1, y2 + h * c2, y3 + h * c3, y4 + h * c4
-        )
-        h6 = h / 6.0
-        return (
-            y0 + h6 * (a0 + 2.0 * (b0 + c0) + d0),
-            y1 + h6 * (a1 + 2.0 * (b1 + c1) + d1),
-            y2 + h6 * (a2 + 2.0 * (b2 + c2) + d2),
-            y3 + h6 * (a3 + 2.0 * (b3 + c3) + d3),
-            y4 + h6 * (a4 + 2.0 * (b4 + c4) + d4),
-            y5 + h6 * (a5 + 2.0 * (b5 + c5) + d5),
-        )
-
-    def slips(y: tuple[float, ...]) -> tuple[float, float, float, float]:
-        return y[0] + s * y[3] - c * y[4], -s * y[1] + y[2], y[0] - y[3], y[1] + y[2]
-
-    def step_limit(y: tuple[float, ...], d: tuple[float, ...]) -> tuple[float, int]:
-        """The largest step the slips allow, and a contact (0: I, 1: C) to set to zero first.
-
-        A step stops just short of where a slip closing on zero at its present rate would
-        reach it (_LAND), turns a sliding slip's direction by at most _TURN radians, and keeps
-        the step times the rate at which friction changes a slip, over the slip, below _STIFF
-        (Coulomb friction is stiff where a slip is small). A slip closing on zero that is
-        already too small to matter is set to zero rather than followed round its last turns.
-        """
-        best = math.inf
-        y0, y1, y2, y3, y4 = y[:5]
-        d0, d1, d2, d3, d4 = d[:5]
-        for contact, sx, sy, dx, dy, grip in (
-            (0, y0 + s * y3 - c * y4, y2 - s * y1, d0 + s * d3 - c * d4, d2 - s * d1, grip_i),
-            (1, y0 - y3, y1 + y2, d0 - d3, d1 + d2, grip_c),
-        ):
-            size = sx * sx + sy * sy
-            if size <= eps2:
-                continue
-            closing = -(sx * dx + sy * dy)
-            if closing > 0.0:
-                if size < snap2 and grip > 0.0:
-                    return 0.0, contact
-                if _LAND * size < best * closing:
-                    best = _LAND * size / closing
-            turning = abs(sx * dy - sy * dx)
-            if _TURN * size < best * turning:
-                best = _TURN * size / turning
-            if grip > 0.0 and _STIFF * math.sqrt(size) < best * grip:
-                best = _STIFF * math.sqrt(size) / grip
-        return best, -1
-
-    def zero_slip(y: tuple[float, ...], contact: int) -> tuple[float, ...]:
-        """Cancel the slip of a contact that has (all but) reached zero, with the impulse that
-        holds it there: a correction of the size of the slip left."""
-        x_i, y_i, x_c, y_c = slips(y)
-        if contact == 0:
-            fix, fiy, fcx, fcy = -x_i / 3.5, -y_i / (2.5 + s * s), 0.0, 0.0
-        else:
-            fix, fiy, fcx, fcy = 0.0, 0.0, -x_c / 3.5, -y_c / 3.5
-        return (
-            y[0] + fix + fcx,
-            y[1] - s * fiy + fcy,
-            y[2] + 2.5 * (fiy + fcy),
-            y[3] + 2.5 * (s * fix - fcx),
-            y[4] - 2.5 * c * fix,
-            y[5],
-        )
-
+    impact = _Impact(s, c, p, abs(vx) + vy + abs(Wx) + abs(Wy) + abs(Wz))
     h = vy / (c * max(1, p.mathavan_steps))
     y = (vx, vy, Wx, Wy, Wz, 0.0)
-    d = rate(*y[:5])
+    d = impact.rate(y[0], y[1], y[2], y[3], y[4])
     target = -math.inf
     taken = 0
     for taken in range(1, _MAX_STEPS + 10 * p.mathavan_steps + 1):
         if target == -math.inf and d[1] >= 0.0:
             break  # friction wedges the ball: the compression cannot end
-        step, contact = step_limit(y, d)
+        step, contact = impact.step_limit(y, d)
         if contact >= 0:
-            y = zero_slip(y, contact)
-            d = rate(*y[:5])
+            y = impact.zero_slip(y, contact)
+            d = impact.rate(y[0], y[1], y[2], y[3], y[4])
             continue
         step = min(h, step)
-        y1 = rk4(y, d, step)
-        d1 = rate(*y1[:5])
+        y1 = impact.rk4(y, d, step)
+        d1 = impact.rate(y1[0], y1[1], y1[2], y1[3], y1[4])
         lo = 0.0
         if target == -math.inf and y1[1] <= 0.0:
             m0, m1 = d[5] * step, d1[5] * step
@@ -362,7 +374,7 @@ def mathavan(
         if y1[5] <= target:
             m0, m1 = d[5] * step, d1[5] * step
             u = _hermite_root(y[5] - target, y1[5] - target, m0, m1, lo)
-            end = rk4(y, d, u * step)
+            end = impact.rk4(y, d, u * step)
             if work is not None:
                 work[0] += taken
             return _to_table(end[0], end[1], end[2], end[3], end[4], normal, R)

@@ -17,11 +17,10 @@ import heapq
 import math
 from collections.abc import Callable
 
-from physics import motion
+from physics import motion, roots
 from physics.ball_ball import BALL_BALL_MODELS
 from physics.cushion import CUSHION_MODELS
 from physics.motion import POCKETED, ROLLING, SLIDING, SPINNING, STATIONARY
-from physics.roots import first_entry, first_entry_quadratic, first_return, path_misses
 from physics.scene import Scene
 from physics.trajectory import BallFinal, Event, ModelsUsed, Segment, Shot
 
@@ -127,7 +126,17 @@ class Simulation:
         ]
         self.cushion: Callable = CUSHION_MODELS[scene.models.cushion]
         self.sin_theta = scene.sin_theta
-        self.geometry = scene.geometry
+        self.geometry = g = scene.geometry
+        R = scene.params.R
+        #: The table as the contact search reads it, unpacked once per shot: each cushion
+        #: segment with its start, normal and direction; each jaw (its circle grown by R, which
+        #: is where a ball's centre meets it) and pocket with its centre and contact radius.
+        self.rails = [
+            (s, s.p1[0], s.p1[1], s.normal[0], s.normal[1], s.p2[0] - s.p1[0], s.p2[1] - s.p1[1])
+            for s in g.segments
+        ]
+        self.circles = [("jaw", c, c.center[0], c.center[1], c.radius + R) for c in g.jaws]
+        self.circles += [("pocket", c, c.center[0], c.center[1], c.radius + 0.0) for c in g.pockets]
         self.balls = [_Ball(name, x, y) for name, (x, y) in scene.positions.items()]
         self.index = {b.name: k for k, b in enumerate(self.balls)}
         self.heap: list[tuple] = []
@@ -169,7 +178,7 @@ class Simulation:
         b.segments.append((b.t0, b.state, (b.x, b.y), (b.vx, b.vy), (b.ax, b.ay), b.w, b.dw))
 
     def _emit(self, kind: str, balls: tuple[str, ...], **extra: str) -> None:
-        self.events.append(Event.model_construct(t=self.now, type=kind, balls=balls, **extra))
+        self.events.append(Event.trusted(self.now, kind, balls, **extra))
 
     # -- prediction ----------------------------------------------------------------------
 
@@ -178,7 +187,7 @@ class Simulation:
         heapq.heappush(self.heap, (t, self.seq, kind, i, j, self.balls[i].version, vj, data))
         self.seq += 1
 
-    def _predict(self, *changed: int) -> None:
+    def _predict(self, changed: tuple[int, ...]) -> None:
         """Queue the next events of the balls whose motion just changed.
 
         First each one's next event of its own, which bounds how long its path holds, then
@@ -211,7 +220,7 @@ class Simulation:
                 if t_spin < first[0]:
                     self._push(t_spin, "spin", i)
             b.t_own = first[0] if b.state != SPINNING else math.inf
-            self._push(first[0], first[1], i, data=first[2])
+            self._push(first[0], first[1], i, -1, first[2])
 
     def _table_contact(self, b: _Ball, horizon: float) -> tuple[float, str, object]:
         """The earliest cushion, jaw or pocket contact of a moving ball within `horizon`."""
@@ -219,49 +228,32 @@ class Simulation:
         best: tuple[float, str, object] = (math.inf, "", None)
         x, y, vx, vy, ax, ay = b.x, b.y, b.vx, b.vy, b.ax, b.ay
         speed, accel = math.hypot(vx, vy), math.hypot(ax, ay)
-        for seg in self.geometry.segments:
-            nx, ny = seg.normal
-            g0 = (x - seg.p1[0]) * nx + (y - seg.p1[1]) * ny - R
+        for seg, px, py, nx, ny, tx, ty in self.rails:
+            g0 = (x - px) * nx + (y - py) * ny - R
             if g0 > (speed + 0.5 * accel * horizon) * horizon:
                 continue
             g1 = vx * nx + vy * ny
             c2 = 0.5 * (ax * nx + ay * ny)
             if g0 <= TOUCH_GAP:
                 approaching = g1 < -MIN_APPROACH
-                t = 0.0 if approaching else first_return((g0, g1, c2), horizon, REST_DEPTH)
+                t = 0.0 if approaching else roots.first_return((g0, g1, c2), horizon, REST_DEPTH)
             else:
-                t = first_entry_quadratic(g0, g1, c2, horizon)
+                t = roots.first_entry_quadratic(g0, g1, c2, horizon)
             if t is None:
                 continue
             # Does the contact fall on this segment, not on the line beyond it?
-            tx, ty = seg.p2[0] - seg.p1[0], seg.p2[1] - seg.p1[1]
-            cx = x + (vx + 0.5 * ax * t) * t - seg.p1[0]
-            cy = y + (vy + 0.5 * ay * t) * t - seg.p1[1]
+            cx = x + (vx + 0.5 * ax * t) * t - px
+            cy = y + (vy + 0.5 * ay * t) * t - py
             s = (cx * tx + cy * ty) / (tx * tx + ty * ty)
             if 0.0 <= s <= 1.0:
                 horizon = t
                 best = (now + t, "cushion", seg)
-        for kind, circles in (("jaw", self.geometry.jaws), ("pocket", self.geometry.pockets)):
-            for circle in circles:
-                radius = circle.radius + (R if kind == "jaw" else 0.0)
-                t = self._circle_contact(b, circle.center, radius, horizon)
-                if t is not None:
-                    horizon = t
-                    best = (now + t, kind, circle)
+        for kind, circle, cx, cy, radius in self.circles:
+            t = self._contact_time(x - cx, y - cy, vx, vy, ax, ay, radius, horizon)
+            if t is not None:
+                horizon = t
+                best = (now + t, kind, circle)
         return best
-
-    @staticmethod
-    def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
-        """First contact time from now for f = |d|^2 - contact^2 with coefficients c."""
-        if gap <= TOUCH_GAP:
-            if c[1] < -2.0 * contact * MIN_APPROACH:
-                return 0.0  # touching and approaching: now
-            return first_return(c, horizon, 2.0 * contact * REST_DEPTH)
-        return first_entry(c, horizon)
-
-    def _circle_contact(self, b: _Ball, center, radius, horizon):
-        dx, dy = b.x - center[0], b.y - center[1]
-        return self._contact_time(dx, dy, b.vx, b.vy, b.ax, b.ay, radius, horizon)
 
     def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
         if bi.state not in _MOVING and bj.state not in _MOVING:
@@ -288,7 +280,7 @@ class Simulation:
         chord test culls most candidates; the rest solve f = |d|^2 - contact^2, a quartic.
         """
         self.contacts_checked += 1
-        if path_misses(dx, dy, vx, vy, ax, ay, horizon, contact):
+        if roots.path_misses(dx, dy, vx, vy, ax, ay, horizon, contact):
             return None
         self.quartics_solved += 1
         c = (
@@ -298,7 +290,7 @@ class Simulation:
             vx * ax + vy * ay,
             0.25 * (ax * ax + ay * ay),
         )
-        return self._first_contact(c, math.hypot(dx, dy) - contact, contact, horizon)
+        return _first_contact(c, math.hypot(dx, dy) - contact, contact, horizon)
 
     # -- resolution ----------------------------------------------------------------------
 
@@ -318,7 +310,7 @@ class Simulation:
         self._set_motion(bi, va, wa)
         self._set_motion(bj, vb, wb)
         self._emit("ball_ball", (bi.name, bj.name))
-        self._predict(i, j)
+        self._predict((i, j))
 
     def _collide_cushion(self, i: int, normal: tuple[float, float], kind: str, **names) -> None:
         b = self.balls[i]
@@ -349,7 +341,7 @@ class Simulation:
                     w_new = motion.rolling_spin(v_new, w_new[2], self.p.R)
         self._set_motion(b, v_new, w_new)
         self._emit(kind, (b.name,), **names)
-        self._predict(i)
+        self._predict((i,))
 
     def _rest(self, va, wa, vb, wb, n):
         """Two balls meeting at a crawl, which friction would keep pressing together.
@@ -400,9 +392,9 @@ class Simulation:
         dv = 0.5 * pressing * until
         slower_a = (va[0] - dv * n[0], va[1] - dv * n[1])
         slower_b = (vb[0] + dv * n[0], vb[1] + dv * n[1])
-        if sa == ROLLING and math.hypot(*slower_a) < math.hypot(*va):
+        if sa == ROLLING and math.hypot(slower_a[0], slower_a[1]) < math.hypot(va[0], va[1]):
             va, wa = slower_a, motion.rolling_spin(slower_a, wa[2], p.R)
-        elif sb == ROLLING and math.hypot(*slower_b) < math.hypot(*vb):
+        elif sb == ROLLING and math.hypot(slower_b[0], slower_b[1]) < math.hypot(vb[0], vb[1]):
             vb, wb = slower_b, motion.rolling_spin(slower_b, wb[2], p.R)
         return va, wa, vb, wb
 
@@ -456,7 +448,7 @@ class Simulation:
             # A roll ends at rest (a slide can end at rest directly: then both events).
             self._set_motion(b, (0.0, 0.0), (0.0, 0.0, b.w[2]))
             self._emit(f"rolling_{b.state}", (b.name,))
-        self._predict(i)
+        self._predict((i,))
 
     def _spin_stop(self, i: int) -> None:
         """w_z reached zero mid-path: a new output segment, the same path, no event."""
@@ -494,7 +486,7 @@ class Simulation:
             k = self.index[name]
             self._set_motion(self.balls[k], m.v, m.w)
             moving.append(k)
-        self._predict(*moving)
+        self._predict(tuple(moving))
 
     def run(self) -> Shot:
         self._start()
@@ -541,10 +533,7 @@ class Simulation:
             final[b.name] = BallFinal.model_construct(
                 pos=None if b.state == POCKETED else (b.x, b.y), state=b.state, pocket=b.pocket
             )
-            trajectories[b.name] = [
-                Segment.model_construct(t=s[0], state=s[1], r=s[2], v=s[3], a=s[4], w=s[5], dw=s[6])
-                for s in b.segments
-            ]
+            trajectories[b.name] = [Segment.trusted(*s) for s in b.segments]
         return Shot.model_construct(
             events=self.events,
             trajectories=trajectories,
@@ -557,6 +546,15 @@ class Simulation:
                 cushion_height=self.geometry.spec.cushion_height,
             ),
         )
+
+
+def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
+    """First contact time from now for f = |d|^2 - contact^2 with coefficients c."""
+    if gap <= TOUCH_GAP:
+        if c[1] < -2.0 * contact * MIN_APPROACH:
+            return 0.0  # touching and approaching: now
+        return roots.first_return(c, horizon, 2.0 * contact * REST_DEPTH)
+    return roots.first_entry(c, horizon)
 
 
 def _time(prediction: tuple) -> float:

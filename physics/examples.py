@@ -1,4 +1,4 @@
-"""Example scenes: the breaks the benchmark times and the tests take apart.
+"""Example scenes: the breaks and the single shot the benchmark times and the tests take apart.
 
 These are physics fixtures, not game racks (rules/ builds those from a seed): balls frozen in
 an exact triangular lattice with a chosen gap, so a test can ask for gap 0 or 1e-9 m.
@@ -80,6 +80,16 @@ def snooker_break_off(speed: float = 7.0, gap: float = 0.0) -> dict[str, Any]:
         "table": "snooker",
         "balls": balls,
         "strike": {"ball": "cue", "speed": speed, "heading": heading, "a": -0.2},
+    }
+
+
+def single_shot(speed: float = 1.0, heading: float = 67.0) -> dict[str, Any]:
+    """The typical shot of a game (and of the bot's search): the cue ball into one object ball,
+    which runs on into two cushions, about ten events in all."""
+    return {
+        "table": "nineball",
+        "balls": {"cue": [0.4, 0.7], "1": [0.7, 1.5]},
+        "strike": {"ball": "cue", "speed": speed, "heading": heading, "b": 0.1},
     }
 
 

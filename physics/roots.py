@@ -13,7 +13,6 @@ moves apart. Pure Python floats: for degree <= 4 this beats numpy's per-call ove
 from __future__ import annotations
 
 import math
-from itertools import pairwise
 
 _NEWTON_ITERS = 60
 
@@ -27,7 +26,7 @@ def _horner(c: tuple[float, ...], t: float) -> float:
 
 
 def _derivative(c: tuple[float, ...]) -> tuple[float, ...]:
-    return tuple(k * c[k] for k in range(1, len(c)))
+    return tuple([k * c[k] for k in range(1, len(c))])
 
 
 def _quadratic_roots(c0: float, c1: float, c2: float) -> list[float]:
@@ -85,7 +84,7 @@ def critical_points(c: tuple[float, ...], hi: float) -> list[float]:
     if len(dc) == 2:
         pts = [-dc[0] / dc[1]]
     elif len(dc) == 3:
-        pts = _quadratic_roots(*dc)
+        pts = _quadratic_roots(dc[0], dc[1], dc[2])
     else:
         pts = all_roots(dc, hi)
     return [p for p in pts if 0.0 < p < hi]
@@ -97,7 +96,8 @@ def all_roots(c: tuple[float, ...], hi: float) -> list[float]:
     knots = [0.0, *critical_points(c, hi), hi]
     roots = []
     f_prev = _horner(c, 0.0)
-    for a, b in pairwise(knots):
+    for k in range(len(knots) - 1):  # each piece between knots, in order
+        a, b = knots[k], knots[k + 1]
         f_b = _horner(c, b)
         if (f_prev > 0.0) != (f_b > 0.0):
             roots.append(_refine(c, dc, a, b) if f_prev > 0.0 else _refine_neg(c, dc, a, b))
@@ -107,8 +107,8 @@ def all_roots(c: tuple[float, ...], hi: float) -> list[float]:
 
 def _refine_neg(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -> float:
     """As `_refine`, for a polynomial rising through zero on [lo, hi]."""
-    neg = tuple(-x for x in c)
-    return _refine(neg, tuple(-x for x in dc), lo, hi)
+    neg = tuple([-x for x in c])
+    return _refine(neg, tuple([-x for x in dc]), lo, hi)
 
 
 def path_misses(
@@ -152,8 +152,9 @@ def first_entry(c: tuple[float, ...], hi: float, skip: float = 0.0) -> float | N
     if _horner(c, skip) <= 0.0:
         return skip
     dc = _derivative(c)
-    knots = [skip, *(p for p in critical_points(c, hi) if p > skip), hi]
-    for a, b in pairwise(knots):
+    knots = [skip, *[p for p in critical_points(c, hi) if p > skip], hi]
+    for k in range(len(knots) - 1):  # each piece between knots, in order
+        a, b = knots[k], knots[k + 1]
         if _horner(c, b) <= 0.0:
             return _refine(c, dc, a, b)
     return None
@@ -170,7 +171,8 @@ def first_return(c: tuple[float, ...], hi: float, depth: float) -> float | None:
     dc = _derivative(c)
     knots = [0.0, *critical_points(c, hi), hi]
     apart = False
-    for a, b in pairwise(knots):
+    for k in range(len(knots) - 1):  # each piece between knots, in order
+        a, b = knots[k], knots[k + 1]
         f_b = _horner(c, b)
         if apart:
             if f_b <= 0.0:

@@ -13,6 +13,7 @@ published defaults were used as a cross-check for the pool values.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -78,7 +79,9 @@ class TableSpec:
     jaw_radius: float = 0.02095
 
     def geometry(self) -> Geometry:
-        return build_geometry(self)
+        """The table's pieces (the same object for the same numbers: a table is built once
+        per process, not once per scene)."""
+        return _geometry(self)
 
 
 @dataclass(frozen=True, slots=True)
@@ -89,6 +92,11 @@ class Geometry:
     segments: tuple[Segment, ...]
     jaws: tuple[Jaw, ...]
     pockets: tuple[Pocket, ...]
+
+    def __reduce__(self) -> tuple:
+        """Pickled as its numbers alone (a scene sent to a batch worker carries no pieces):
+        the pieces follow from them."""
+        return _geometry, (self.spec,)
 
 
 def _corner(name: str, corner: tuple[float, float], inward: tuple[float, float], spec: TableSpec):
@@ -124,6 +132,11 @@ def _side(name: str, x: float, inward: float, spec: TableSpec):
     )
     pocket = Pocket(name, (x - inward * spec.side_depth, ym), spec.side_radius)
     return (ym - h, ym + h), jaws, pocket
+
+
+@functools.lru_cache(maxsize=64)
+def _geometry(spec: TableSpec) -> Geometry:
+    return build_geometry(spec)
 
 
 def build_geometry(spec: TableSpec) -> Geometry:

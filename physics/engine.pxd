@@ -1,0 +1,59 @@
+# The C types of physics/engine.py for the compiled kernel (setup.py); the .py is the source.
+cimport cython
+
+cimport physics.motion as motion
+cimport physics.pymath as math
+cimport physics.roots as roots
+
+
+cdef object _first_contact(tuple c, double gap, double contact, double horizon)
+
+
+cdef class _Ball:
+    cdef public object name, state, pocket
+    cdef public double t0, x, y, vx, vy, ax, ay, t_own
+    cdef public tuple w, dw
+    cdef public Py_ssize_t version
+    cdef public list segments
+
+    @cython.locals(dt=cython.double)
+    cpdef (double, double, double, double) at(self, double t)
+    @cython.locals(dt=cython.double)
+    cpdef advance(self, double t)
+
+
+cdef class Simulation:
+    cdef public object scene, p, models, ball_ball, cushion, geometry
+    cdef public bint spin
+    cdef public double sin_theta, now
+    cdef public list balls, heap, events, cushion_steps, rails, circles
+    cdef public dict index
+    cdef public Py_ssize_t seq, contacts_checked, quartics_solved
+
+    cpdef Py_ssize_t work(self)
+    cdef _set_motion(self, _Ball b, tuple v, tuple w)
+    cdef _record(self, _Ball b)
+    cdef _push(self, double t, str kind, Py_ssize_t i, Py_ssize_t j=*, object data=*)
+    @cython.locals(k=Py_ssize_t, i=Py_ssize_t, j=Py_ssize_t, bi=_Ball, other=_Ball)
+    cdef _predict(self, tuple changed)
+    @cython.locals(b=_Ball, now=cython.double)
+    cdef _predict_own(self, Py_ssize_t i)
+    @cython.locals(R=cython.double, now=cython.double, x=cython.double, y=cython.double,
+                   vx=cython.double, vy=cython.double, ax=cython.double, ay=cython.double,
+                   speed=cython.double, accel=cython.double, nx=cython.double,
+                   ny=cython.double, g0=cython.double, g1=cython.double, c2=cython.double,
+                   tx=cython.double, ty=cython.double, cx=cython.double, cy=cython.double,
+                   px=cython.double, py=cython.double,
+                   s=cython.double, radius=cython.double)
+    cdef tuple _table_contact(self, _Ball b, double horizon)
+    @cython.locals(now=cython.double, xj=cython.double, yj=cython.double, vxj=cython.double,
+                   vyj=cython.double)
+    cdef _predict_pair(self, Py_ssize_t i, Py_ssize_t j, _Ball bi, _Ball bj)
+    cdef object _contact_time(self, double dx, double dy, double vx, double vy, double ax,
+                              double ay, double contact, double horizon)
+    @cython.locals(bi=_Ball, bj=_Ball, dx=cython.double, dy=cython.double, d=cython.double,
+                   vn=cython.double)
+    cpdef _collide_balls(self, Py_ssize_t i, Py_ssize_t j)
+    cpdef _transition(self, Py_ssize_t i)
+    cdef _spin_stop(self, Py_ssize_t i)
+    cdef _pocket(self, Py_ssize_t i, object name)

@@ -1,0 +1,51 @@
+"""simulate_many: the shots of simulate, one by one, in order, from worker processes."""
+
+import pickle
+
+import pytest
+
+from physics import SceneError, parse_scene, simulate, simulate_many
+from physics.examples import BREAKS
+
+
+def breaks(n):
+    makes = list(BREAKS.values())
+    return [makes[k % len(makes)](speed=2.0 + 0.5 * k) for k in range(n)]
+
+
+@pytest.mark.parametrize("workers", [1, 2, None])
+def test_same_shots_in_the_same_order(workers):
+    scenes = breaks(7)
+    many = simulate_many(scenes, workers=workers)
+    assert [s.to_msgpack() for s in many] == [simulate(s).to_msgpack() for s in scenes]
+
+
+def test_a_bad_scene_raises_as_it_would_alone():
+    scenes = [*breaks(3), {"balls": {}}]
+    with pytest.raises(SceneError):
+        simulate_many(scenes, workers=2)
+
+
+def test_workers_at_least_one():
+    with pytest.raises(ValueError, match="at least 1"):
+        simulate_many(breaks(2), workers=0)
+
+
+def test_empty_batch():
+    assert simulate_many([], workers=2) == []
+
+
+def test_a_shot_pickles_to_an_equal_shot():
+    """simulate_many's results come back through pickle (Shot.__reduce__): all of it intact."""
+    for scene in breaks(3):
+        shot = simulate(scene)
+        back = pickle.loads(pickle.dumps(shot))
+        assert back == shot and back.to_msgpack() == shot.to_msgpack()
+        for a, b in zip(back.events, shot.events, strict=True):
+            assert a.model_fields_set == b.model_fields_set
+
+
+def test_a_scene_pickles_to_an_equal_scene():
+    scene = parse_scene(breaks(1)[0])
+    back = pickle.loads(pickle.dumps(scene))
+    assert back == scene and back.geometry is scene.geometry  # built once per process
