@@ -3,18 +3,14 @@
 from __future__ import annotations
 
 import pytest
-from aiohttp import web
-from aiohttp.test_utils import TestClient, TestServer
+from aiohttp.test_utils import TestClient
 
 from server.diagrams import INPUTS, mount_diagrams
 
 
 @pytest.fixture
-async def client():
-    app = web.Application()
-    mount_diagrams(app)
-    async with TestClient(TestServer(app)) as c:
-        yield c
+async def client(serve):
+    return await serve(mount_diagrams)
 
 
 async def curve(client: TestClient, name: str, **query) -> dict:
