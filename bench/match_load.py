@@ -120,9 +120,11 @@ async def match_loop(base: str, session: aiohttp.ClientSession, n: int, samples:
     spectator = GameClient(base, session)
     for seat, player in enumerate(players):
         await player.register(f"load{n}s{seat}r{os.getpid() % 1000}t{int(stop) % 100000}")
+    rack = 0
     while time.perf_counter() < stop:
-        view = await players[0].create("nineball")
-        view = await players[1].join(view.id)
+        host, guest = players[rack % 2], players[1 - rack % 2]  # (tables are rate-limited)
+        rack += 1
+        view = await guest.join((await host.create("nineball")).id)
         watcher = asyncio.create_task(spectate(spectator, view, samples, stop))
         await play_table(players, view, samples, pace, stop)
         watcher.cancel()

@@ -60,8 +60,6 @@ from server.tables import TableRecord
 MAX_BODY = 16 * 1024
 #: Largest claim body (bytes): a long game's record (rules.record.MAX_INPUTS inputs).
 MAX_RECORD_BODY = 1024 * 1024
-#: Seconds between two quick messages of one player at one table.
-CHAT_INTERVAL = 2.0
 TABLE_ID = r"{table:[0-9a-f]{20}}"
 GAME = r"{game:nineball|eightball|snooker|three_cushion}"
 NAME = r"{name:[A-Za-z0-9_. \-]{1,24}}"
@@ -162,7 +160,11 @@ async def full_view(service: Service, record: TableRecord) -> TableView:
 # ----- identity -------------------------------------------------------------------------------
 async def register(request: web.Request) -> web.Response:
     create = await parse(request, PlayerCreate)
-    return answer(await service_of(request).identity.register(create.name), 201)
+    service = service_of(request)
+    service.throttle("register", request.remote or "")
+    token = await service.identity.register(create.name)
+    service.lobby.changed()  # one more player online
+    return answer(token, 201)
 
 
 async def me(request: web.Request) -> web.Response:
@@ -186,6 +188,7 @@ async def create_table(request: web.Request) -> web.Response:
     player = await player_of(request)
     create = await parse(request, TableCreate)
     service = service_of(request)
+    service.throttle("create", player.id)
     record = tables.new_table(new_table_id(), create, player, new_seed())
     await service.storage.create_table(record)
     service.lobby.changed()
@@ -244,7 +247,7 @@ async def resign(request: web.Request) -> web.Response:
         if record.status is not Status.PLAYING:
             raise ServiceError(ErrorCode.WRONG_PHASE, f"the table is {record.status.value}")
         winner = None if record.mode is Mode.PRACTICE else 1 - seat
-        return tables.bump(record, status=Status.OVER, winner=winner, pending=None)
+        return tables.bump(record, status=Status.OVER, winner=winner)
 
     return await _change(request, give_up)
 
@@ -305,6 +308,7 @@ async def intent(request: web.Request) -> web.Response:
 async def heartbeat(request: web.Request) -> web.Response:
     player = await player_of(request)
     service = service_of(request)
+    service.throttle("heartbeat", player.id)
     record = await table_of(request)
     seat = _seated(record, player)
     now = time.time()
@@ -329,10 +333,7 @@ async def quick_message(request: web.Request) -> web.Response:
     body = await parse(request, QuickMessageRequest)
     service = service_of(request)
     record = await table_of(request)
-    now, key = time.time(), (record.id, player.id)
-    if now - service.chatted.get(key, 0.0) < CHAT_INTERVAL:
-        raise ServiceError(ErrorCode.RATE_LIMITED, f"one message per {CHAT_INTERVAL:g} s")
-    service.chatted[key] = now
+    service.throttle("chat", f"{record.id}:{player.id}")
     message = ChatMessage(
         version=record.version,
         from_name=player.name,
@@ -372,12 +373,14 @@ async def claim_break(request: web.Request) -> web.Response:
 async def quick(request: web.Request) -> web.Response:
     player = await player_of(request)
     body = await parse(request, QuickRequest)
-    return answer(await service_of(request).lobby.quick(player, TableCreate(game=body.game)))
+    service = service_of(request)
+    service.throttle("quick", player.id)
+    return answer(await service.lobby.quick(player, TableCreate(game=body.game)))
 
 
 async def quick_status(request: web.Request) -> web.Response:
     player = await player_of(request)
-    return answer(await service_of(request).storage.quick_status(player.id))
+    return answer(await service_of(request).lobby.quick_status(player))
 
 
 async def quick_cancel(request: web.Request) -> web.Response:
@@ -390,12 +393,13 @@ _TABLE_REFUSALS = (ErrorCode.NOT_FOUND, ErrorCode.FORBIDDEN, ErrorCode.WRONG_PHA
 _T = f"/api/tables/{TABLE_ID}"
 ROUTES: tuple[Route, ...] = (
     Route("POST", "/api/players", register, "A guest identity and its token", {201: PlayerToken},
-          PlayerCreate, auth=False, refusals=(ErrorCode.NAME_TAKEN,)),
+          PlayerCreate, auth=False, refusals=(ErrorCode.NAME_TAKEN, ErrorCode.RATE_LIMITED)),
     Route("GET", "/api/me", me, "The player a token names", {200: PlayerInfo}),
     Route("GET", "/api/players/{player:p_[0-9a-f]{16}}/ratings", player_ratings,
           "A player's rating in each game", {200: PlayerRatings}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
-    Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate),
+    Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate,
+          refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/tables", list_tables, "Open and live public tables", {200: TableList},
           auth=False),
     Route("GET", _T, get_table, "A table's full state (resync)", {200: TableView}, auth=False,
@@ -415,7 +419,7 @@ ROUTES: tuple[Route, ...] = (
     Route("POST", f"{_T}/rematch", rematch, "Offer or accept a rematch", {200: TableView},
           refusals=_TABLE_REFUSALS),
     Route("POST", f"{_T}/heartbeat", heartbeat, "I am still here", {200: PresenceMessage},
-          refusals=_TABLE_REFUSALS),
+          refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},
           QuickMessageRequest, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
     Route("GET", "/api/replays/{replay:[0-9a-f]{24}}", get_replay, "A rack's replay",
@@ -429,7 +433,8 @@ ROUTES: tuple[Route, ...] = (
           {201: ClaimVerdict}, ClaimRequest, auth=False, max_body=MAX_RECORD_BODY,
           refusals=(ErrorCode.ILLEGAL_INPUT, ErrorCode.CLAIM_MISMATCH, ErrorCode.DUPLICATE,
                     ErrorCode.RATE_LIMITED)),
-    Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest),
+    Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest,
+          refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/quick", quick_status, "Where my quick match stands", {200: QuickStatus}),
     Route("DELETE", "/api/quick", quick_cancel, "Stop waiting", {200: QuickStatus}),
 )  # fmt: skip

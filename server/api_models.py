@@ -13,12 +13,9 @@ from typing import Annotated, Literal
 from annotated_types import Interval
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
-from physics.trajectory import Event
-from rules.inputs import PlayerInput
-from rules.racks import GameName
-from rules.record import GameRecord
-from rules.state import Decision, Region, State
 from server.errors import ErrorCode
+from server.refereeing import Decision, GameName, GameRecord, PlayerInput, Region, State
+from server.trajectories import Trajectory
 
 #: The format version of channel messages; bumped when a client must change to read them.
 PROTOCOL = 1
@@ -332,22 +329,6 @@ class ClaimVerdict(BaseModel):
 
 
 # ----- channel messages -----------------------------------------------------------------------
-#: One segment on the wire: [t, state, rx, ry, vx, vy, ax, ay, wx, wy, wz, dwx, dwy, dwz].
-WireSegment = tuple[
-    float, str, float, float, float, float, float, float, float, float, float, float, float, float
-]
-
-
-class Trajectory(BaseModel):
-    """The engine's per-ball polynomial motion of one shot, compact (see docs/protocol.md)."""
-
-    model_config = _ANSWER
-
-    duration: float
-    events: list[Event]
-    balls: dict[str, list[WireSegment]]
-
-
 class OutcomeMessage(BaseModel):
     """One input played: published once on the table channel, after it was stored."""
 

@@ -12,10 +12,10 @@ from __future__ import annotations
 import json
 import uuid
 from collections.abc import AsyncIterator
-from typing import Any
+from typing import Any, TypeVar
 
 import aiohttp
-from pydantic import TypeAdapter
+from pydantic import BaseModel, TypeAdapter
 
 from server.api_models import (
     IntentAccepted,
@@ -30,6 +30,7 @@ from server.api_models import (
 from server.relay.frames import GAP_TYPE
 
 META = "ws+meta.nchan"
+M = TypeVar("M", bound=BaseModel)
 _ACK = TypeAdapter(IntentAccepted | IntentDuplicate)
 
 
@@ -39,6 +40,12 @@ class Refused(Exception):
     def __init__(self, status: int, code: str, reason: str) -> None:
         super().__init__(f"{code}: {reason}")
         self.status, self.code, self.reason = status, code, reason
+
+
+def from_json(model: type[M], value: Any) -> M:
+    """`value` (decoded JSON) as `model`, validated as JSON: arrays are tuples where the model
+    says so, as strict models need."""
+    return model.model_validate_json(json.dumps(value))
 
 
 def table_id_of(link: str) -> str:
@@ -67,25 +74,25 @@ class GameClient:
 
     async def register(self, name: str) -> PlayerInfo:
         _, body = await self.request("POST", "/api/players", {"name": name})
-        token = PlayerToken.model_validate(body)
+        token = from_json(PlayerToken, body)
         self.token, self.player = token.token, token.player
         return token.player
 
     async def create(self, game: str, **options: Any) -> TableView:
         _, body = await self.request("POST", "/api/tables", {"game": game, **options})
-        return TableView.model_validate(body)
+        return from_json(TableView, body)
 
     async def join(self, table_id: str) -> TableView:
         _, body = await self.request("POST", f"/api/tables/{table_id}/join")
-        return TableView.model_validate(body)
+        return from_json(TableView, body)
 
     async def table(self, table_id: str) -> TableView:
         _, body = await self.request("GET", f"/api/tables/{table_id}")
-        return TableView.model_validate(body)
+        return from_json(TableView, body)
 
     async def quick(self, game: str) -> QuickStatus:
         _, body = await self.request("POST", "/api/quick", {"game": game})
-        return QuickStatus.model_validate(body)
+        return from_json(QuickStatus, body)
 
     async def send(
         self, table_id: str, version: int, action: Any
@@ -93,7 +100,7 @@ class GameClient:
         """Send one intent (a fresh shot id); Refused if the server refuses it."""
         body = {"version": version, "shot_id": uuid.uuid4().hex, "input": action}
         _, answer = await self.request("POST", f"/api/tables/{table_id}/intents", body)
-        return _ACK.validate_python(answer)
+        return _ACK.validate_json(json.dumps(answer))
 
     async def wait_paired(self) -> str:
         """The table id of a quick match, once the server has paired this player."""
@@ -134,10 +141,10 @@ class GameClient:
                 version = fresh.version
                 yield fresh
             elif kind == "outcome":
-                outcome = OutcomeMessage.model_validate(message)
+                outcome = from_json(OutcomeMessage, message)
                 version = outcome.version
                 yield outcome
             else:
-                fresh = TableMessage.model_validate(message).view
+                fresh = from_json(TableMessage, message).view
                 version = fresh.version
                 yield fresh

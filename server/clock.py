@@ -15,11 +15,11 @@ warning first; clients show the deadline from `next.deadline`.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 import time
-from collections.abc import AsyncIterator
+from contextlib import AbstractAsyncContextManager
 
+from server.background import running
 from server.match import Matches
 from server.storage import Storage
 
@@ -31,8 +31,7 @@ TICK = 0.5
 BATCH = 200
 
 
-@contextlib.asynccontextmanager
-async def running_clock(storage: Storage, matches: Matches) -> AsyncIterator[None]:
+def running_clock(storage: Storage, matches: Matches) -> AbstractAsyncContextManager[None]:
     """Rule expired shot clocks while the context is open."""
 
     async def tick() -> None:
@@ -44,10 +43,4 @@ async def running_clock(storage: Storage, matches: Matches) -> AsyncIterator[Non
                 log.exception("shot clock tick failed")
             await asyncio.sleep(TICK)
 
-    task = asyncio.create_task(tick())
-    try:
-        yield
-    finally:
-        task.cancel()
-        with contextlib.suppress(asyncio.CancelledError):
-            await task
+    return running(tick)

@@ -3,7 +3,8 @@
 Tokens are the relay's (`TokenAuthority.issue` / `verify`: one token format for the whole app),
 with the player's id as subject and no publish grants: players never publish on game channels,
 they send intents over HTTP. The display name lives in storage beside the id, so a token stays
-valid across reloads and restarts as long as the signing key does (see `load_secret`).
+valid across reloads and restarts as long as the signing key does (kept in the SQLite file,
+`storage.sqlite.token_key`, or given to every replica in `BILLIARDS_RELAY_SECRET`).
 
 Names are unique among players *online*: a claim on the case-folded name lasts `ONLINE` seconds
 and each authenticated heartbeat renews it; once it lapses the name is free for someone else.
@@ -11,10 +12,8 @@ and each authenticated heartbeat renews it; once it lapses the name is free for 
 
 from __future__ import annotations
 
-import os
 import secrets
 import time
-from pathlib import Path
 
 from server.api_models import PlayerInfo, PlayerToken
 from server.errors import ErrorCode, ServiceError
@@ -25,21 +24,6 @@ from server.storage import Storage
 TOKEN_TTL = 30 * 24 * 3600
 #: How long a name stays reserved after its player's last sign of life (s).
 ONLINE = 300.0
-
-
-def load_secret(path: Path) -> str:
-    """The token signing key kept at `path`, created (owner-only) on first use.
-
-    A key that survives restarts is what lets a player's token survive them; replicas share
-    one key through `BILLIARDS_RELAY_SECRET` instead.
-    """
-    if path.exists():
-        return path.read_text().strip()
-    secret = secrets.token_hex(32)
-    fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-    with os.fdopen(fd, "w") as file:
-        file.write(secret)
-    return secret
 
 
 def name_key(name: str) -> str:

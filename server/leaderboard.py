@@ -23,7 +23,6 @@ import time
 
 from pydantic import ValidationError
 
-from rules.state import Decision, State
 from server import refereeing, tables
 from server.api_models import (
     BreakEntry,
@@ -37,6 +36,7 @@ from server.api_models import (
 )
 from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
+from server.refereeing import Decision, State
 from server.replays import new_replay_id, rack_replay, replay_url
 from server.storage import Storage
 from server.tables import InputEntry, TableRecord
@@ -73,7 +73,9 @@ class Breaks:
         final: State,
     ) -> ReplayView:
         """Store the rack's replay and its players' best breaks (once per rack and seat)."""
-        replay, best = rack_replay(record, entries, decisions, final)
+        inputs = [entry.input for entry in entries]
+        game_record = await self._pool.rack_record(record.game, record.seed + record.rack, inputs)
+        replay, best = rack_replay(record, game_record, decisions, final)
         await self._storage.add_replay(replay)
         source = Source.PRACTICE if record.mode is Mode.PRACTICE else Source.MATCH
         if record.mode is Mode.PRACTICE:  # one person played every visit

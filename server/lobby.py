@@ -13,11 +13,10 @@ creates the table for both; nobody is seated twice and no table gets a third pla
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 import secrets
 import time
-from collections.abc import AsyncIterator
+from contextlib import AbstractAsyncContextManager
 
 from server import tables
 from server.api_models import (
@@ -29,6 +28,7 @@ from server.api_models import (
     TableList,
     TableSummary,
 )
+from server.background import running
 from server.channels import LOBBY, Publisher, player_channel
 from server.errors import ErrorCode, ServiceError
 from server.storage import Storage
@@ -61,16 +61,9 @@ class Lobby:
         """Something the lobby shows changed: a snapshot goes out within `BATCH` seconds."""
         self._dirty.set()
 
-    @contextlib.asynccontextmanager
-    async def running(self) -> AsyncIterator[None]:
+    def running(self) -> AbstractAsyncContextManager[None]:
         """Publish batched snapshots while the context is open."""
-        task = asyncio.create_task(self._run())
-        try:
-            yield
-        finally:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+        return running(self._run)
 
     async def _run(self) -> None:
         while True:
@@ -105,7 +98,7 @@ class Lobby:
         table_id = new_table_id()
         partner_id = await self._storage.pair(create.game, player.id, table_id)
         if partner_id is None:
-            return await self._storage.quick_status(player.id)
+            return QuickStatus(status="waiting")
         partner = await self._storage.get_player(partner_id)
         if partner is None:
             raise ServiceError(ErrorCode.UNAVAILABLE, "the paired player vanished")
@@ -115,3 +108,11 @@ class Lobby:
             await self._publisher.publish(player_channel(who.id), PairedMessage(table=table_id))
         self.changed()
         return QuickStatus(status="paired", table=table_id)
+
+    async def quick_status(self, player: PlayerInfo) -> QuickStatus:
+        """Where the player's quick match stands; "paired" only once its table exists (the
+        partner's request creates it just after pairing)."""
+        status = await self._storage.quick_status(player.id)
+        if status.table is not None and await self._storage.get_table(status.table) is None:
+            return QuickStatus(status="waiting")
+        return status

@@ -34,10 +34,8 @@ from collections import deque
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass
 
-from rules.inputs import Choice
 from server import ratings, refereeing, tables
 from server.api_models import (
-    InputKind,
     Intent,
     IntentAccepted,
     IntentDuplicate,
@@ -319,10 +317,10 @@ def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEn
             ErrorCode.STALE_VERSION,
             f"the table is at version {record.version}, not {intent.version}: resync",
         )
-    kinds, *_ = refereeing.constraints(record.state)
-    kind = InputKind.CHOICE if isinstance(intent.input, Choice) else InputKind.SHOT
-    if kind not in kinds:
-        raise ServiceError(ErrorCode.WRONG_PHASE, f"send a {kinds[0].value}, not a {kind.value}")
+    options, *_ = refereeing.constraints(record.state)
+    if bool(options) != isinstance(intent.input, refereeing.Choice):
+        wanted = "a choice of " + " / ".join(options) if options else "a shot"
+        raise ServiceError(ErrorCode.WRONG_PHASE, f"send {wanted}")
     action = refereeing.canonical(intent.input)
     try:
         refereeing.check(record.state, action)

@@ -80,6 +80,23 @@ async def _shoot_if_mine(
             raise
 
 
+React = Callable[["GameClient", str, TableView | OutcomeMessage], Awaitable[None]]
+
+
+async def _print_changes(client: GameClient, view: TableView, react: React | None = None) -> int:
+    """Print each change of the table until the match is over, reacting to each (0: over)."""
+    names = names_of(view)
+    async for change in client.follow(view):
+        if isinstance(change, TableView):
+            names = names_of(change)
+        print(outcome_line(change, names), flush=True)
+        if change.status in (Status.OVER, Status.CANCELLED):
+            return 0
+        if react is not None:
+            await react(client, view.id, change)
+    return 0
+
+
 async def play(args: argparse.Namespace) -> int:
     import aiohttp
 
@@ -90,16 +107,8 @@ async def play(args: argparse.Namespace) -> int:
         await client.register(args.name or f"cli-{secrets.token_hex(3)}")
         view = await _open_table(client, args)
         print(f"table {view.id}: {view.game}, you are {client.player.name}", flush=True)
-        names = names_of(view)
         await _shoot_if_mine(client, view.id, view)
-        async for change in client.follow(view):
-            if isinstance(change, TableView):
-                names = names_of(change)
-            print(outcome_line(change, names), flush=True)
-            if change.status in (Status.OVER, Status.CANCELLED):
-                return 0
-            await _shoot_if_mine(client, view.id, change)
-    return 0
+        return await _print_changes(client, view, _shoot_if_mine)
 
 
 async def watch(args: argparse.Namespace) -> int:
@@ -110,17 +119,10 @@ async def watch(args: argparse.Namespace) -> int:
     async with aiohttp.ClientSession() as session:
         client = GameClient(args.url, session)
         view = await client.table(table_id_of(args.table))
-        names = names_of(view)
-        print(outcome_line(view, names), flush=True)
+        print(outcome_line(view, names_of(view)), flush=True)
         if view.status in (Status.OVER, Status.CANCELLED):
             return 0
-        async for change in client.follow(view):
-            if isinstance(change, TableView):
-                names = names_of(change)
-            print(outcome_line(change, names), flush=True)
-            if change.status in (Status.OVER, Status.CANCELLED):
-                return 0
-    return 0
+        return await _print_changes(client, view)
 
 
 async def submit(args: argparse.Namespace) -> int:
@@ -131,7 +133,7 @@ async def submit(args: argparse.Namespace) -> int:
     import aiohttp
 
     from server.api_models import ClaimVerdict
-    from server.client import GameClient, Refused
+    from server.client import GameClient, Refused, from_json
 
     try:
         record = json.loads(Path(args.record).read_text())
@@ -142,7 +144,7 @@ async def submit(args: argparse.Namespace) -> int:
         client = GameClient(args.url, session)
         body = {"game": game, "record": record, "name": args.name, "score": args.score}
         _, answer = await client.request("POST", "/api/leaderboard/claims", body)
-    verdict = ClaimVerdict.model_validate(answer)
+    verdict = from_json(ClaimVerdict, answer)
     entry = verdict.entry
     print(
         f"accepted: {entry.game} break of {entry.score} by {entry.name}, "

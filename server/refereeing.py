@@ -1,5 +1,8 @@
 """Every call the game service makes into `rules`, in one place: the seam to the referees.
 
+The rest of the server imports the rules' types from here too (`State`, `Decision`,
+`PlayerInput`, ...), so a change of the rules' interface is met in this module alone.
+
 The match owner checks an input here on the event loop (cheap: no physics), and the worker
 processes run `referee` and `bot_input` (the engine runs there, never on the event loop). What
 they return is picklable and already in wire form, so the event loop only stores and publishes.
@@ -18,17 +21,23 @@ from rules.pickers import pick
 from rules.racks import GameName
 from rules.record import GameRecord, replay
 from rules.spots import in_region, is_free
-from rules.state import Decision, RuleError, State
-from server.api_models import InputKind, Trajectory, WireSegment
+from rules.state import Decision, Region, RuleError, State
+from server.trajectories import Trajectory, wire_trajectory
 
 #: Cue speed (m/s) of the stroke played when the shot clock runs out: it rolls about 1 cm.
 TIMEOUT_SPEED = 0.05
-#: Significant digits kept in a published trajectory (animation only; rest positions are exact).
-TRAJECTORY_DIGITS = 7
 
 __all__ = [
+    "Choice",
+    "Decision",
+    "GameName",
+    "GameRecord",
+    "PlayerInput",
     "Refereed",
+    "Region",
     "RuleError",
+    "Shot",
+    "State",
     "bot_input",
     "breaker_of",
     "check",
@@ -91,26 +100,13 @@ def rule_code(error: RuleError) -> str | None:
     return None if code is None else str(getattr(code, "value", code))
 
 
-def constraints(state: State) -> tuple[list[InputKind], str, str | None, list[str]]:
-    """(kinds, cue ball, ball-in-hand region, options) for the player to act in `state`."""
+def constraints(state: State) -> tuple[list[str], str, Region | None]:
+    """(options pending, cue ball, ball-in-hand region) for the player to act in `state`:
+    with options pending the player must choose one, otherwise it shoots."""
     cue = REFEREES[state.game].cue_ball(state)
     if state.pending:
-        return [InputKind.CHOICE], cue, None, list(state.pending)
-    return [InputKind.SHOT], cue, state.ball_in_hand, []
-
-
-def _round(x: float) -> float:
-    return float(f"{x:.{TRAJECTORY_DIGITS}g}")
-
-
-def wire_trajectory(shot: EngineShot) -> Trajectory:
-    """The engine's segments as compact arrays (see docs/protocol.md, the outcome message)."""
-    balls: dict[str, list[WireSegment]] = {}
-    for ball, segments in shot.trajectories.items():
-        balls[ball] = [
-            (_round(s.t), s.state, *map(_round, (*s.r, *s.v, *s.a, *s.w, *s.dw))) for s in segments
-        ]
-    return Trajectory(duration=shot.duration, events=shot.events, balls=balls)
+        return list(state.pending), cue, None
+    return [], cue, state.ball_in_hand
 
 
 def referee(state: State, action: PlayerInput) -> Refereed:

@@ -11,10 +11,10 @@ from __future__ import annotations
 import secrets
 import time
 
-from rules.state import Decision, State
 from server import refereeing
 from server.api_models import ReplayView
-from server.tables import InputEntry, TableRecord
+from server.refereeing import Decision, GameRecord, State
+from server.tables import TableRecord
 
 
 def new_replay_id() -> str:
@@ -27,11 +27,12 @@ def replay_url(replay_id: str) -> str:
 
 def rack_replay(
     record: TableRecord,
-    entries: list[InputEntry],
+    game_record: GameRecord,
     decisions: list[Decision | None],
     final: State,
 ) -> tuple[ReplayView, tuple[int, int]]:
-    """The replay of the rack `entries` played, and each *seat's* best break in it."""
+    """The replay of a finished rack (`game_record`: its inputs as the rules record them, from
+    `refereeing.rack_record`), and each *seat's* best break in it."""
     best = refereeing.best_visits(record.game, decisions, final)
     first = record.breaker
     replay_id = new_replay_id()
@@ -43,9 +44,7 @@ def rack_replay(
         game=record.game,
         players=[record.seats[first], record.seats[1 - first]],
         best=(best[first], best[1 - first]),
-        record=refereeing.rack_record(
-            record.game, record.seed + record.rack, [e.input for e in entries]
-        ),
+        record=game_record,
         created=time.time(),
     )
     return view, best

@@ -1,8 +1,8 @@
 """`billiards serve`: run the server (relay and game service) until interrupted.
 
 Tokens must outlive a restart (a player's token is its identity), so the signing key is read
-from the environment variable `BILLIARDS_RELAY_SECRET` or, without Redis, kept in a key file
-beside the SQLite database (`--db`, created on first run). Replicas sharing one Redis must check
+from the environment variable `BILLIARDS_RELAY_SECRET` or, without Redis, kept in the SQLite
+database itself (`--db`, created on first run). Replicas sharing one Redis must check
 each other's tokens, so they share the key through the environment variable.
 
 `--uvloop` runs the server on uvloop's event loop (libuv) instead of asyncio's own: the same
@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 import asyncio
 import os
-from pathlib import Path
 
 
 def new_event_loop(use_uvloop: bool) -> asyncio.AbstractEventLoop:
@@ -33,12 +32,12 @@ def _serve(args: argparse.Namespace) -> int:
     from aiohttp import web
 
     from server.app import AppSettings, create_app
-    from server.identity import load_secret
     from server.relay.settings import RelaySettings
+    from server.storage.sqlite import token_key
 
     secret = os.environ.get("BILLIARDS_RELAY_SECRET")
     if secret is None and args.redis is None:
-        secret = load_secret(Path(args.db).with_suffix(".key"))
+        secret = token_key(args.db)
     relay = RelaySettings(auth_secret=secret)
     settings = AppSettings(
         relay=relay, redis_url=args.redis, database=args.db, workers=args.workers

@@ -15,13 +15,27 @@ from aiohttp import web
 from server.api_models import PresenceMessage
 from server.channels import Publisher
 from server.clock import running_clock
+from server.errors import ErrorCode, ServiceError
 from server.identity import Identity
 from server.leaderboard import Breaks
 from server.lobby import Lobby
 from server.match import MatchContext, Matches, new_replica_id
+from server.relay.limits import RateLimiter
 from server.relay.relay import Relay
 from server.storage import Storage
 from server.workers import WorkerPool, default_workers
+
+#: (requests per second, burst) per caller for what makes the server store or send something:
+#: new identities per client address, tables, quick-match requests and heartbeats per player,
+#: quick messages per player and table (one per 2 s). Intents need none: only the player to act may
+#: send one, and it waits for the previous outcome.
+LIMITS: dict[str, tuple[float, int]] = {
+    "register": (5.0, 200),
+    "create": (1.0, 20),
+    "quick": (2.0, 20),
+    "chat": (0.5, 1),
+    "heartbeat": (2.0, 10),
+}
 
 
 @dataclass
@@ -35,8 +49,16 @@ class Service:
     matches: Matches
     #: The presence each table last announced from this process (to announce changes once).
     presence: dict[str, PresenceMessage] = field(default_factory=dict)
-    #: When each (table, player) last sent a quick message (rate limit).
-    chatted: dict[tuple[str, str], float] = field(default_factory=dict)
+    #: Token buckets for what a client can make the server store or send (see LIMITS).
+    limits: dict[str, RateLimiter] = field(
+        default_factory=lambda: {kind: RateLimiter(*limit) for kind, limit in LIMITS.items()}
+    )
+
+    def throttle(self, kind: str, key: str) -> None:
+        """Take one `kind` request for `key` from its bucket; RATE_LIMITED if it is empty."""
+        wait = self.limits[kind].allow(key)
+        if wait > 0:
+            raise ServiceError(ErrorCode.RATE_LIMITED, f"too many requests: retry in {wait:.1f} s")
 
 
 async def open_storage(database: str | None, redis_url: str | None) -> Storage:

@@ -12,13 +12,11 @@ import time
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from rules.inputs import PlayerInput
-from rules.racks import GameName
-from rules.state import State
 from server import refereeing
 from server.api_models import (
     BotName,
     Constraints,
+    InputKind,
     Mode,
     OutcomeMessage,
     PlayerInfo,
@@ -29,6 +27,7 @@ from server.api_models import (
     TableView,
 )
 from server.errors import ErrorCode, ServiceError
+from server.refereeing import GameName, PlayerInput, State
 
 #: A seated player without a heartbeat for this long is shown disconnected (s).
 PRESENCE_TIMEOUT = 10.0
@@ -161,12 +160,12 @@ def constraints(record: TableRecord) -> Constraints | None:
     seat = acting_seat(record)
     if seat is None:
         return None
-    kinds, cue, region, options = refereeing.constraints(record.state)
+    options, cue, region = refereeing.constraints(record.state)
     occupant = record.seats[seat]
     return Constraints(
         seat=seat,
         player=occupant.id if occupant else None,
-        kinds=kinds,
+        kinds=[InputKind.CHOICE if options else InputKind.SHOT],
         cue_ball=cue,
         ball_in_hand=region,
         options=options,
@@ -199,16 +198,21 @@ def grace_until(record: TableRecord, seen: Seen, now: float) -> tuple[float | No
     return until[0], until[1]
 
 
+def _listing(record: TableRecord, spectators: int) -> dict[str, object]:
+    """What a lobby summary and a full view both say about a table."""
+    return {
+        "id": record.id,
+        "game": record.game,
+        "mode": record.mode,
+        "status": record.status,
+        "seats": list(record.seats),
+        "options": record.options,
+        "spectators": spectators,
+    }
+
+
 def summary(record: TableRecord, spectators: int = 0) -> TableSummary:
-    return TableSummary(
-        id=record.id,
-        game=record.game,
-        mode=record.mode,
-        status=record.status,
-        seats=list(record.seats),
-        options=record.options,
-        spectators=spectators,
-    )
+    return TableSummary(**_listing(record, spectators))
 
 
 def view(
@@ -216,13 +220,8 @@ def view(
 ) -> TableView:
     """The full state a client starts from (`GET /api/tables/{id}`)."""
     return TableView(
-        id=record.id,
+        **_listing(record, spectators),
         channel=record.channel,
-        game=record.game,
-        mode=record.mode,
-        options=record.options,
-        status=record.status,
-        seats=list(record.seats),
         version=record.version,
         rack=record.rack,
         racks_won=record.racks_won,
@@ -230,7 +229,6 @@ def view(
         next=constraints(record),
         last_outcome=record.last_outcome,
         presence=presence(record, seen, time.time() if now is None else now),
-        spectators=spectators,
         winner=record.winner,
         rematch=record.rematch,
         rematch_table=record.rematch_table,

@@ -17,9 +17,8 @@ from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import TypeVar
 
-from rules.inputs import PlayerInput
-from rules.state import State
 from server import refereeing
+from server.refereeing import PlayerInput, State
 
 T = TypeVar("T")
 
@@ -59,6 +58,12 @@ class WorkerPool:
 
     async def bot_input(self, state: State) -> PlayerInput:
         return await self._run(refereeing.bot_input, state)
+
+    async def rack_record(
+        self, game: refereeing.GameName, seed: int, inputs: list[PlayerInput]
+    ) -> refereeing.GameRecord:
+        """A finished rack's game record (rules that digest every state replay it to build it)."""
+        return await self._run(refereeing.rack_record, game, seed, inputs)
 
     async def verify(self, record_json: bytes) -> refereeing.Verified:
         return await self._run(refereeing.verify, record_json)

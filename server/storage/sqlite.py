@@ -10,7 +10,10 @@ the tests do); surviving power loss too would need `synchronous=FULL`. One proce
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import itertools
+import secrets
+import sqlite3
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
@@ -54,6 +57,19 @@ CREATE INDEX IF NOT EXISTS breaks_rank ON breaks (game, score DESC, at);
 CREATE TABLE IF NOT EXISTS quick (
     player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL);
 """
+
+
+def token_key(path: str | Path) -> str:
+    """The token signing key kept in the database file, created on first use.
+
+    Read once at start-up, before the event loop runs (so plain `sqlite3`): a key that lives
+    with the data survives restarts and backups with it, and so do the players' tokens.
+    """
+    with contextlib.closing(sqlite3.connect(str(path))) as db, db:
+        db.execute("CREATE TABLE IF NOT EXISTS secrets (name TEXT PRIMARY KEY, value TEXT)")
+        db.execute("INSERT OR IGNORE INTO secrets VALUES ('tokens', ?)", (secrets.token_hex(32),))
+        (value,) = db.execute("SELECT value FROM secrets WHERE name = 'tokens'").fetchone()
+    return value
 
 
 class SqliteStorage(Storage):

@@ -7,9 +7,9 @@ import json
 from aiohttp.test_utils import TestClient
 
 from rules.game import Setup
-from rules.record import GameRecord, replay
 from rules.selfplay import selfplay
-from server.refereeing import best_visits
+from server import refereeing
+from server.client import from_json
 from tests.service.conftest import register, watch
 from tests.service.test_match import picked
 
@@ -32,12 +32,10 @@ async def test_a_finished_rack_has_a_replay_and_its_break_enters_the_leaderboard
     assert len(current["replay"]) == 24  # 96 random bits
     saved = await (await server.get(f"/api/replays/{current['replay']}")).json()
     assert saved["url"] == f"/replay/{saved['id']}" and saved["players"][0]["name"] == "Ada"
-    record = GameRecord.model_validate(saved["record"])
-    assert [i.model_dump(mode="json") for i in record.inputs] == inputs
-    rebuilt = replay(record)
-    assert rebuilt.final.over  # the record replays to the rack's end on its own
-    best = best_visits("nineball", [s.decision for s in rebuilt.steps], rebuilt.final)
-    assert tuple(saved["best"]) == best
+    assert saved["record"]["inputs"] == inputs
+    verified = refereeing.verify(json.dumps(saved["record"]).encode())  # it replays on its own
+    assert verified.inputs == len(inputs) and tuple(saved["best"]) == verified.best
+    best = verified.best
     top = await (await server.get("/api/leaderboard/nineball")).json()
     if max(best) > 0:
         assert top["breaks"][0]["score"] == max(best)
@@ -48,9 +46,8 @@ async def test_a_finished_rack_has_a_replay_and_its_break_enters_the_leaderboard
 
 
 def _record(seed: int) -> tuple[dict, int]:
-    record, played = selfplay(Setup(game="nineball", seed=seed), max_inputs=60)
-    best = best_visits("nineball", [s.decision for s in played.steps], played.final)
-    return json.loads(record.to_json()), max(best)
+    record, _ = selfplay(Setup(game="nineball", seed=seed), max_inputs=60)
+    return json.loads(record.to_json()), max(refereeing.verify(record.to_json().encode()).best)
 
 
 async def test_claims_are_replayed_and_refused_when_they_do_not_hold(server: TestClient) -> None:
@@ -67,7 +64,8 @@ async def test_claims_are_replayed_and_refused_when_they_do_not_hold(server: Tes
     assert (status, verdict["code"]) == (422, "claim_mismatch")
     out_of_bounds = json.loads(json.dumps(record))
     out_of_bounds["inputs"][0]["strike"]["speed"] = 50
-    assert (await submit(claim | {"record": out_of_bounds}))[0] == 400
+    status, verdict = await submit(claim | {"record": out_of_bounds})
+    assert verdict["code"] in ("bad_request", "illegal_input")  # as the rules bound it
     other_engine = json.loads(json.dumps(record))
     other_engine["setup"]["engine"] = "0"
     status, verdict = await submit(claim | {"record": other_engine})
@@ -82,7 +80,9 @@ async def test_claims_are_replayed_and_refused_when_they_do_not_hold(server: Tes
 
     status, verdict = await submit(claim)
     assert status == 201 and verdict["entry"]["score"] == best
-    assert verdict["replay"]["record"] == GameRecord.model_validate(record).model_dump(mode="json")
+    assert verdict["replay"]["record"] == from_json(refereeing.GameRecord, record).model_dump(
+        mode="json"
+    )
     status, again = await submit(claim)
     assert (status, again["code"]) == (409, "duplicate")
     mine = await (await server.get("/api/leaderboard/nineball/players/Cy")).json()

@@ -6,11 +6,8 @@ import time
 
 from aiohttp.test_utils import TestClient
 
-from rules.inputs import Shot
-from server.match import LEASE
-from server.tables import InputEntry
 from tests.service.conftest import StartServer, register, service_of, watch
-from tests.service.test_match import picked, seated_match
+from tests.service.test_match import abandon_input, picked, seated_match
 
 
 async def test_a_restarted_server_resumes_the_match_and_honours_old_tokens(
@@ -38,17 +35,7 @@ async def test_an_input_abandoned_by_a_dead_replica_is_played_after_the_lease(
     server: TestClient,
 ) -> None:
     ada, _, view = await seated_match(server)
-    storage = service_of(server).storage
-    record = await storage.get_table(view["id"])
-    entry = InputEntry(
-        shot_id="orphan-0001",
-        seat=0,
-        input=Shot.model_validate(picked(view)),
-        version=record.version,
-        accepted_at=time.time() - LEASE - 1,
-        replica="a-replica-that-died",
-    )
-    await storage.accept(record.model_copy(update={"pending": entry}))
+    await abandon_input(service_of(server).storage, view, "orphan-0001")
     watcher = await watch(server, view["channel"])
     await server.get(f"/api/tables/{view['id']}")  # any request looks at the table
     outcome = await watcher.next_kind("outcome")
@@ -134,3 +121,11 @@ async def test_a_decided_match_between_two_people_is_rated_once(server: TestClie
     assert won["rating"] > 1500 > lost["ratings"]["nineball"]["rating"]
     assert won["games"] == 1 and won["provisional"]
     assert (await server.get("/api/players/p_0000000000000000/ratings")).status == 404
+
+
+async def test_what_a_client_makes_the_server_store_is_rate_limited(server: TestClient) -> None:
+    ada = await register(server, "Ada")
+    answers = [(await ada.call("POST", "/api/tables", {"game": "nineball"}))[0] for _ in range(25)]
+    assert 20 <= answers.count(201) <= 21 and answers[-1] == 429  # a burst of 20, then 1/s
+    listed = await (await server.get("/api/tables")).json()
+    assert len(listed["tables"]) == answers.count(201)

@@ -16,8 +16,9 @@ from typing import Any
 import aiohttp
 import pytest
 
+from server.storage.redis import RedisStorage
 from tests.redis_server import free_port
-from tests.service.test_match import picked
+from tests.service.test_match import abandon_input, picked
 
 SECRET = "replica-test-secret-0123456789"
 START_TIMEOUT_S = 30.0
@@ -49,6 +50,9 @@ class Replica:
         raise RuntimeError(f"replica on port {self.port} did not start")
 
     def stop(self) -> None:
+        if self.process.poll() is not None:
+            self.log.close()
+            return
         self.process.terminate()
         try:
             self.process.wait(timeout=10)
@@ -84,19 +88,27 @@ async def call(
         return response.status, await response.json()
 
 
-async def test_two_replicas_referee_each_shot_exactly_once(
+async def seat_across(
     replicas: list[Replica], http: aiohttp.ClientSession
-) -> None:
+) -> tuple[str, str, dict, dict, dict]:
+    """Ada on replica A creates a nine-ball table, Bob on replica B joins it."""
     for replica in replicas:
         await replica.wait_ready(http)
     a, b = (replica.url for replica in replicas)
     _, ada = await call(http, "POST", f"{a}/api/players", body={"name": "Ada"})
     _, bob = await call(http, "POST", f"{b}/api/players", body={"name": "Bob"})
-    status, _ = await call(http, "POST", f"{b}/api/players", body={"name": "ada"})
-    assert status == 409  # one name space across replicas
     _, table = await call(http, "POST", f"{a}/api/tables", ada["token"], {"game": "nineball"})
     status, view = await call(http, "POST", f"{b}/api/tables/{table['id']}/join", bob["token"])
     assert status == 200 and view["status"] == "playing"
+    return a, b, ada, bob, view
+
+
+async def test_two_replicas_referee_each_shot_exactly_once(
+    replicas: list[Replica], http: aiohttp.ClientSession
+) -> None:
+    a, b, ada, bob, view = await seat_across(replicas, http)
+    status, _ = await call(http, "POST", f"{b}/api/players", body={"name": "ada"})
+    assert status == 409  # one name space across replicas
     feeds = [
         await http.ws_connect(f"{url}/sub/{view['channel']}", protocols=("ws+meta.nchan",))
         for url in (a, b)
@@ -131,3 +143,34 @@ async def test_two_replicas_referee_each_shot_exactly_once(
         assert view["last_outcome"]["shot_id"] in {i["shot_id"] for i in intents}
         if view["status"] != "playing":
             break
+
+
+async def test_a_dead_replica_stalls_no_match(
+    replicas: list[Replica], http: aiohttp.ClientSession, redis_url: str
+) -> None:
+    _, b, ada, bob, view = await seat_across(replicas, http)
+    replicas[0].process.kill()  # replica A dies; B carries on alone
+
+    # An input A had accepted but not played (stored as A would have stored it) is played by
+    # B once the lease has run out, on the next request B serves for the table.
+    storage = await RedisStorage.open(redis_url)
+    try:
+        await abandon_input(storage, view, "accepted-by-a")
+    finally:
+        await storage.close()
+    feed = await http.ws_connect(f"{b}/sub/{view['channel']}", protocols=("ws+meta.nchan",))
+    status, _ = await call(http, "POST", f"{b}/api/tables/{view['id']}/heartbeat", bob["token"])
+    assert status == 200
+    while True:
+        frame = await asyncio.wait_for(feed.receive(), 30)
+        message = json.loads(frame.data.split("\n\n", 1)[1])
+        if message["kind"] == "outcome":
+            break
+    assert (message["shot_id"], message["version"]) == ("accepted-by-a", view["version"] + 1)
+    _, after = await call(http, "GET", f"{b}/api/tables/{view['id']}")
+    token = {ada["player"]["id"]: ada["token"], bob["player"]["id"]: bob["token"]}[
+        after["next"]["player"]
+    ]
+    intent = {"version": after["version"], "shot_id": uuid.uuid4().hex, "input": picked(after)}
+    status, ack = await call(http, "POST", f"{b}/api/tables/{view['id']}/intents", token, intent)
+    assert (status, ack["version"]) == (202, after["version"] + 1)

@@ -7,7 +7,8 @@ import time
 
 import pytest
 
-from rules.inputs import Choice
+from server import refereeing
+from server.api_models import BreakEntry, Source
 from server.ratings import Rating
 from server.storage import AcceptResult, Storage
 from server.tables import InputEntry, TableRecord, bump, join
@@ -18,7 +19,7 @@ def pending(record: TableRecord, shot_id: str) -> TableRecord:
     entry = InputEntry(
         shot_id=shot_id,
         seat=0,
-        input=Choice(option="play_on"),
+        input=refereeing.Choice(option="play_on"),
         version=record.version,
         accepted_at=time.time(),
     )
@@ -161,3 +162,32 @@ async def test_a_match_is_rated_once(open_storage: OpenStorage) -> None:
     assert not await stores[0].rate("t" * 20, "snooker", {"p_ada": Rating(rating=9)})
     assert (await stores[0].ratings("p_ada"))["snooker"].rating == 1600
     assert await stores[0].ratings("p_nobody") == {}
+
+
+async def test_due_tables_follow_the_stored_deadline(storage: Storage) -> None:
+    record = a_table()
+    await storage.create_table(record)
+    assert await storage.due_tables(time.time() + 1e6, 10) == []  # no clock
+    ticking = bump(record).model_copy(update={"deadline": 1000.0})
+    assert await storage.update(ticking)
+    assert await storage.due_tables(999.0, 10) == []
+    assert await storage.due_tables(1000.0, 10) == [record.id]
+    stopped = bump(ticking)  # this table has no clock: the next version has no deadline
+    assert stopped.deadline is None and await storage.update(stopped)
+    assert await storage.due_tables(time.time(), 10) == []
+
+
+async def test_breaks_rank_once_per_key(storage: Storage) -> None:
+    def entry(score: int, name: str) -> BreakEntry:
+        return BreakEntry(game="snooker", score=score, name=name, source=Source.CLAIM, at=score)
+
+    assert await storage.add_break(entry(40, "Ada"), "k1")
+    assert not await storage.add_break(entry(147, "Eve"), "k1")  # a key enters once
+    assert await storage.add_break(entry(75, "Bob"), "k2")
+    assert await storage.add_break(entry(60, "Ada"), "k3")
+    assert await storage.add_break(entry(10, "Ada"), "k4")
+    top = await storage.top_breaks("snooker", 2)
+    assert [(b.name, b.score) for b in top] == [("Bob", 75), ("Ada", 60)]
+    assert (await storage.best_break("snooker", "Ada")).score == 60
+    assert await storage.best_break("snooker", "Eve") is None
+    assert await storage.top_breaks("nineball", 5) == []
