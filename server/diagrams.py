@@ -28,6 +28,7 @@ import physics
 from physics.accuracy_data import rebound, throw_angle
 from physics.cue import MISCUE_LIMIT
 from physics.params import POOL
+from server.trajectories import wire_trajectory
 
 #: Cut angles (degrees) of the throw curves, and incidences of the cushion curves.
 CUTS = tuple(range(0, 91, 2))
@@ -116,9 +117,7 @@ def motion_shot(q: MotionQuery) -> dict:
     shot = physics.simulate(scene)  # SceneError (a ValueError) for a miscue
     return {
         "R": POOL.R,
-        "segments": [
-            [s.t, s.state, *s.r, *s.v, *s.a, *s.w, *s.dw] for s in shot.trajectories["cue"]
-        ],
+        "segments": wire_trajectory(shot).balls["cue"],
         "events": [{"t": e.t, "type": e.type} for e in shot.events],
         "duration": shot.duration,
     }

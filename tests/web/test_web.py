@@ -5,8 +5,6 @@ from __future__ import annotations
 import gzip
 
 import pytest
-from aiohttp import web
-from aiohttp.test_utils import TestClient, TestServer
 
 from physics.tables import PRESETS
 from server import web as web_module
@@ -25,11 +23,8 @@ def dist(tmp_path, monkeypatch):
 
 
 @pytest.fixture
-async def client():
-    app = web.Application()
-    mount_web(app)
-    async with TestClient(TestServer(app)) as c:
-        yield c
+async def client(serve):
+    return await serve(mount_web)
 
 
 @pytest.mark.parametrize(

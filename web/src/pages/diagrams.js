@@ -71,18 +71,27 @@ function throwDiagram(spec) {
 
 function cushionDiagram(spec) {
   const spins = ["stun", "roll", "roll+side", "roll-side"];
-  const series = [{ label: "incidence" }];
-  for (const model of ["mathavan", "han"]) {
-    spins.forEach((spin, i) =>
-      series.push({ label: `${model} ${spin}`, stroke: COLOURS[i], width: 2, dash: model === "han" ? [6, 4] : undefined, scale: "deg" }),
-    );
-  }
-  const draw = chart($("cushion-chart"), {
-    scales: { x: { time: false }, deg: { range: [0, 90] } },
-    axes: [{ label: "incidence from the normal (degrees)" }, { label: "rebound angle (degrees)", scale: "deg" }],
-    series,
+  // A fresh list per chart: uPlot keeps its own state in each series object.
+  const series = () => [
+    { label: "incidence" },
+    ...["mathavan", "han"].flatMap((model) =>
+      spins.map((spin, i) => ({ label: `${model} ${spin}`, stroke: COLOURS[i], width: 2, dash: model === "han" ? [6, 4] : undefined })),
+    ),
+  ];
+  const angles = chart($("cushion-chart"), {
+    scales: { x: { time: false } },
+    axes: [{ label: "incidence from the normal (degrees)" }, { label: "rebound angle (degrees)" }],
+    series: series(),
   });
-  const update = fetcher("cushion", (d) => draw([d.incidence_deg, ...d.curves.map((c) => c.rebound_deg)]));
+  const speeds = chart($("cushion-speed-chart"), {
+    scales: { x: { time: false } },
+    axes: [{ label: "incidence from the normal (degrees)" }, { label: "rebound speed / incoming speed" }],
+    series: series(),
+  });
+  const update = fetcher("cushion", (d) => {
+    angles([d.incidence_deg, ...d.curves.map((c) => c.rebound_deg)]);
+    speeds([d.incidence_deg, ...d.curves.map((c) => c.speed_ratio)]);
+  });
   update(sliders($("cushion-sliders"), spec, update));
 }
 
