@@ -136,7 +136,7 @@ def throw_corrected(state: State, c: Candidate, simulate: Simulate) -> Candidate
     R = referee(state.game).TABLE.R
     turn = math.degrees(error * 2 * R * pot.cos_cut / pot.d1)
     strike = c.shot.strike.model_validate(
-        {**dict(c.shot.strike), "heading": c.shot.strike.heading - turn}
+        {**dict(c.shot.strike), "heading": c.shot.strike.heading + turn}
     )
     return replace(c, shot=c.shot.model_copy(update={"strike": strike}))
 
