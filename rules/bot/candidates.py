@@ -227,7 +227,17 @@ def candidates(state: State, level: Level) -> list[Candidate]:
         found = pot_candidates(where, targets, level.pots)
         for spot in where[:CONTACT_SPOTS]:
             found += contact_candidates(spot, targets)
+        if not found and where:
+            found = [plain(where[0], targets)]
     return [c for c in found if accepted(state, c)]
+
+
+def plain(spot: Spot, targets: frozenset[str]) -> Candidate:
+    """The stroke of last resort, when no contact was found: straight at the nearest legal
+    ball, whatever is in the way."""
+    t = min(targets, key=lambda t: (math.dist(spot.cue, spot.balls[t]), t))
+    shot = spot.shot(t, speed=CONTACT_SPEEDS[1], heading=heading_to(spot.cue, spot.balls[t]))
+    return Candidate(shot, Kind.CONTACT)
 
 
 def accepted(state: State, candidate: Candidate) -> bool:
