@@ -154,25 +154,28 @@ def _contact_points(cue: Point, at: Point, R: float) -> list[Point]:
 
 
 def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
-    """Contacts on the nearest legal balls; kicks off one cushion when none is in sight."""
+    """Contacts on the nearest legal balls in sight; kicks off one cushion when none is."""
     R = spot.table.R
+    ignore = lambda t: {spot.now.cue, t}  # noqa: E731
     near = sorted(targets, key=lambda t: (math.dist(spot.cue, spot.balls[t]), t))
     out = []
-    for t in near[:CONTACT_TARGETS]:
-        for aim_at in _contact_points(spot.cue, spot.balls[t], R):
-            if not path_clear(spot.cue, aim_at, spot.balls, R, ignore={spot.now.cue, t}):
-                continue
+    seen = 0
+    for t in near:
+        points = _contact_points(spot.cue, spot.balls[t], R)
+        clear = [p for p in points if path_clear(spot.cue, p, spot.balls, R, ignore(t))]
+        for aim_at in clear:
             for v in CONTACT_SPEEDS:
                 shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, aim_at))
                 out.append(Candidate(shot, Kind.CONTACT))
+        seen += bool(clear)
+        if seen == CONTACT_TARGETS:
+            break
     if out:
         return out
     for t in near:
         for bounce in cushion_bounces(spot.table, spot.cue, spot.balls[t]):
-            ignore = {spot.now.cue, t}
-            if path_clear(spot.cue, bounce, spot.balls, R, ignore) and path_clear(
-                bounce, spot.balls[t], spot.balls, R, ignore
-            ):
+            to_bounce = path_clear(spot.cue, bounce, spot.balls, R, ignore(t))
+            if to_bounce and path_clear(bounce, spot.balls[t], spot.balls, R, ignore(t)):
                 for v in KICK_SPEEDS:
                     shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, bounce))
                     out.append(Candidate(shot, Kind.KICK))
@@ -195,12 +198,15 @@ def break_candidates(state: State) -> list[Candidate]:
     return out
 
 
-def carom_candidates(state: State, step: float) -> list[Candidate]:
-    """Three-cushion: headings every `step` degrees within FAN_WIDTH of each object ball."""
+def carom_candidates(state: State, budget: int) -> list[Candidate]:
+    """Three-cushion: evenly spaced headings within FAN_WIDTH of each object ball, as many as
+    `budget` candidates allow (with every side spin and speed at each)."""
     now = allowed(state)
     table = referee(state.game).TABLE
     spot = Spot(now, table, dict(state.balls), None)
-    n = int(FAN_WIDTH // step)
+    per_heading = len(FAN_SIDES) * len(FAN_SPEEDS) * len(now.targets)
+    n = max(1, (budget // per_heading - 1) // 2)
+    step = FAN_WIDTH / n
     out = []
     for t in sorted(now.targets):
         base = heading_to(spot.cue, spot.balls[t])
@@ -218,7 +224,7 @@ def candidates(state: State, level: Level) -> list[Candidate]:
     now = allowed(state)
     ref = referee(state.game)
     if not ref.TABLE.pockets:
-        found = carom_candidates(state, level.fan_step)
+        found = carom_candidates(state, level.screen)
     elif state.shots == 0 and state.ball_in_hand == "kitchen":
         found = break_candidates(state)
     else:

@@ -10,7 +10,6 @@ is a function of the position, the level and the seed alone (see rules.bot.searc
 - width, samples: how many of the best screened go on to `samples` noisy simulations each;
 - leaders, leader_samples: how many of those get `leader_samples` more, before the best
   mean decides;
-- fan_step: three-cushion's spacing (degrees) of the headings tried around each object ball;
 - cap: a wall-clock safety limit (s). A search that reaches it stops between stages and plays
   the best shot found so far; that decision, unlike all others, depends on the machine's speed
   (the search reports it). With the budgets below it is not reached on today's engine.
@@ -34,7 +33,6 @@ class Level:
     samples: int
     leaders: int
     leader_samples: int
-    fan_step: float
     cap: float = 60.0
 
     @property
@@ -44,63 +42,15 @@ class Level:
         return 2 * self.screen + self.width * self.samples + self.leaders * self.leader_samples
 
 
-LEVELS: tuple[Level, ...] = (
-    Level(
-        1,
-        hand=3.0,
-        pots=2,
-        screen=12,
-        width=3,
-        samples=2,
-        leaders=0,
-        leader_samples=0,
-        fan_step=10.0,
-    ),
-    Level(
-        2,
-        hand=2.0,
-        pots=3,
-        screen=30,
-        width=6,
-        samples=3,
-        leaders=2,
-        leader_samples=6,
-        fan_step=8.0,
-    ),
-    Level(
-        3,
-        hand=1.2,
-        pots=4,
-        screen=60,
-        width=8,
-        samples=5,
-        leaders=3,
-        leader_samples=10,
-        fan_step=6.0,
-    ),
-    Level(
-        4,
-        hand=0.6,
-        pots=5,
-        screen=90,
-        width=10,
-        samples=6,
-        leaders=4,
-        leader_samples=16,
-        fan_step=5.0,
-    ),
-    Level(
-        5,
-        hand=0.0,
-        pots=6,
-        screen=140,
-        width=12,
-        samples=8,
-        leaders=5,
-        leader_samples=24,
-        fan_step=4.0,
-    ),
+#: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples.
+TABLE = (
+    (1, 3.0, 2, 12, 3, 2, 0, 0),
+    (2, 2.0, 3, 30, 6, 3, 2, 6),
+    (3, 1.2, 4, 60, 8, 5, 3, 10),
+    (4, 0.6, 5, 90, 10, 6, 4, 16),
+    (5, 0.0, 6, 140, 12, 8, 5, 24),
 )
+LEVELS: tuple[Level, ...] = tuple(Level(*row) for row in TABLE)
 STRONGEST = LEVELS[-1]
 
 

@@ -52,11 +52,7 @@ def _snooker(state: State, rng: random.Random) -> State:
     n_reds = rng.randint(0, len(reds))
     colours = list(COLOURS[rng.randint(0, len(COLOURS) - 1) :]) if n_reds == 0 else list(COLOURS)
     balls = _scatter(["cue", *reds[:n_reds], *colours], state, rng)
-    if n_reds:
-        on = rng.choice(("red", "colour"))
-    else:
-        on = colours[0]
-    fields: dict = {"on": on}
+    fields: dict = {"on": rng.choice(("red", "colour")) if n_reds else colours[0]}
     if rng.random() < 0.2:
         fields["pending"] = ("play_on", "play_again")
     elif rng.random() < 0.2:
