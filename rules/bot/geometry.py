@@ -5,10 +5,10 @@ object ball on the line to the pocket) and the object ball leaves along that lin
 under execution noise is estimated without simulating, from how a heading error grows on its
 way: a cue ball that strays by d1·dθ sideways at the object ball turns the contact line by
 d1·dθ / (2R cos cut), and the object ball then misses its line at the pocket by d2 times that;
-the pot drops when that miss is within the pocket's tolerance (half the mouth less most of a
-ball, narrowed as the ball approaches the mouth at an angle). This estimate ranks the pots the
-search simulates and values the position a shot leaves (the look-ahead); the referee, on
-simulated shots, decides everything else.
+the pot drops when that miss is within the pocket's tolerance (about half the mouth, narrowed
+as the ball approaches the mouth at an angle, fitted to the engine's pockets). This estimate
+ranks the pots the search simulates and values the position a shot leaves (the look-ahead);
+the referee, on simulated shots, decides everything else.
 """
 
 from __future__ import annotations
@@ -22,11 +22,14 @@ from rules.aim import ghost, path_clear
 from rules.bot.noise import Noise
 from rules.spots import Point, Table
 
-#: The share of the ball radius the mouth tolerance loses: a ball whose centre passes closer
-#: than this to a jaw tip is rattled out.
-JAW_SHARE = 0.8
-#: Widest angle (degrees) between the object ball's path and a pocket's axis that still drops.
-CORNER_LIMIT, SIDE_LIMIT = 60.0, 45.0
+#: The pocket's tolerance: half the mouth less this share of the ball radius straight down the
+#: axis, shrinking as (1 - (angle / limit)^SHAPE) with the angle between the ball's path and
+#: the axis, to nothing at the limit (degrees). Fitted to the engine: 535 straight pots from
+#: random nine-ball positions, 12 plays each under the tournament noise, cut the squared error
+#: of the estimate against the rate seen from 68 to 11.
+JAW_SHARE = 0.3
+CORNER_LIMIT, SIDE_LIMIT = 90.0, 60.0
+SHAPE = 3
 #: Thinnest cut planned (cos of the cut angle): thinner cuts leave too little to aim at.
 MIN_CUT_COS = 0.2
 #: Heading error assumed by the estimate at the least (degrees): even a perfect hand misses a
@@ -74,15 +77,12 @@ def tolerance(table: Table, pocket: Pocket, direction: Point) -> float:
     still drop, for a ball travelling along the unit `direction`; 0 when it cannot drop."""
     axis = pocket_axis(table, pocket)
     cos_in = direction[0] * axis[0] + direction[1] * axis[1]
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, cos_in))))
     limit = SIDE_LIMIT if side_pocket(pocket) else CORNER_LIMIT
-    if cos_in <= math.cos(math.radians(limit)):
+    if angle >= limit:
         return 0.0
     mouth = table.spec.side_mouth if side_pocket(pocket) else table.spec.corner_mouth
-    open_half = mouth / 2 - JAW_SHARE * table.R
-    # The mouth seen from the approach direction shrinks with the angle to the axis; past the
-    # limit the far jaw hides it entirely.
-    angle = math.acos(min(1.0, cos_in))
-    return max(0.0, open_half * math.cos(angle) * (1 - angle / math.radians(limit)))
+    return (mouth / 2 - JAW_SHARE * table.R) * (1 - (angle / limit) ** SHAPE)
 
 
 def chance(tol: float, d1: float, d2: float, cos_cut: float, R: float, noise: Noise) -> float:
