@@ -2,7 +2,8 @@
 
 - The break (pool): from a few places behind the head string, at the rack's apex ball, hard.
 - Pots: the likeliest straight pots (rules.bot.geometry), from every place a ball in hand
-  allows, varied in speed and in follow, stun and draw.
+  allows, varied in speed and in follow, stun and draw; and the likeliest one-cushion banks
+  and two-ball combinations, varied in speed.
 - Contacts, which are the safeties: the nearest legal balls hit full, half-ball and thin on
   either side, soft to firm. Kicks: when no legal ball can be hit straight, contacts off one
   cushion, which is also the escape from a snooker.
@@ -22,7 +23,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from rules.aim import path_clear
-from rules.bot.geometry import Pot, cushion_bounces, pots
+from rules.bot.geometry import Pot, banks, combos, cushion_bounces, pots
 from rules.bot.levels import Level
 from rules.bot.noise import Noise
 from rules.bot.placements import placements
@@ -56,8 +57,12 @@ FAN_FOLLOW = 0.1
 
 
 class Kind(StrEnum):
+    """What a candidate is; the pots' kinds are the geometry's `Via` values."""
+
     BREAK = "break"
-    POT = "pot"
+    POT = "direct"
+    BANK = "bank"
+    COMBO = "combo"
     CONTACT = "contact"
     KICK = "kick"
     CAROM = "carom"
@@ -107,7 +112,7 @@ def heading_to(a: Point, b: Point) -> float:
 
 def pot_speed(p: Pot) -> float:
     """A cue speed (m/s) that sends the object ball to the pocket with some to spare."""
-    return min(6.0, 1.2 + 1.1 * (p.d1 + p.d2 / p.cos_cut))
+    return min(6.0, 1.2 + 1.1 * (p.d1 + p.travel / p.cos_cut))
 
 
 def spots(state: State) -> list[Spot]:
@@ -123,26 +128,41 @@ def spots(state: State) -> list[Spot]:
     return found
 
 
-def aims(spot: Spot, targets: frozenset[str]) -> list[Pot]:
-    return pots(spot.table, spot.cue, spot.balls, targets, NOISE_FOR_RANKING)
-
-
 #: Pots are ranked under the tournament noise: the ranking only chooses what to simulate.
 NOISE_FOR_RANKING = Noise()
+#: Banks and combinations tried (each kind, likeliest first), from the cue ball's first spot,
+#: and the least estimated chance that earns one a place.
+EXTRA_POTS = 2
+EXTRA_MIN_CHANCE = 0.2
+#: Speed factors of a bank or a combination (plain centre-ball strokes).
+EXTRA_SPEEDS = (1.0, 1.4)
+
+
+def _varied(spot: Spot, p: Pot, speeds: tuple[float, ...], spins: tuple[float, ...]):
+    for f in speeds:
+        for b in spins:
+            strike = {"speed": round(f * pot_speed(p), 3), "heading": p.heading, "b": b}
+            yield Candidate(spot.shot(p.target, p.pocket, **strike), Kind(p.via), p)
 
 
 def pot_candidates(where: list[Spot], targets: frozenset[str], n: int) -> list[Candidate]:
-    """The n likeliest pots over every spot, each varied in speed and spin."""
-    found = sorted(
-        ((p, i) for i, s in enumerate(where) for p in aims(s, targets)),
+    """The n likeliest straight pots over every spot, each varied in speed and spin, then the
+    likeliest banks and combinations from the first spot."""
+    direct = sorted(
+        (
+            (p, i)
+            for i, s in enumerate(where)
+            for p in pots(s.table, s.cue, s.balls, targets, NOISE_FOR_RANKING)
+        ),
         key=lambda pi: (-pi[0].chance, pi[1], pi[0].target, pi[0].pocket),
     )[:n]
-    out = []
-    for p, i in found:
-        for f in POT_SPEEDS:
-            for b in POT_SPINS:
-                strike = {"speed": round(f * pot_speed(p), 3), "heading": p.heading, "b": b}
-                out.append(Candidate(where[i].shot(p.target, p.pocket, **strike), Kind.POT, p))
+    out = [c for p, i in direct for c in _varied(where[i], p, POT_SPEEDS, POT_SPINS)]
+    if where:
+        s = where[0]
+        for find in (banks, combos):
+            found = find(s.table, s.cue, s.balls, targets, NOISE_FOR_RANKING)
+            likely = [p for p in found if p.chance >= EXTRA_MIN_CHANCE][:EXTRA_POTS]
+            out += [c for p in likely for c in _varied(s, p, EXTRA_SPEEDS, (0.0,))]
     return out
 
 

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from enum import StrEnum
 
 from physics.tables import Pocket
 from rules.aim import ghost, path_clear
@@ -32,16 +33,30 @@ CORNER_LIMIT, SIDE_LIMIT = 90.0, 60.0
 SHAPE = 3
 #: Thinnest cut planned (cos of the cut angle): thinner cuts leave too little to aim at.
 MIN_CUT_COS = 0.2
+#: A bank's error grows this much more than its path length alone says.
+BANK_SPREAD = 1.5
+#: Thinnest cut of the second ball of a combination (cos of the cut angle).
+COMBO_MIN_COS = 0.7
 #: Heading error assumed by the estimate at the least (degrees): even a perfect hand misses a
 #: little, so no pot is certain and long pots still rank below short ones.
 MIN_HEADING_SD = 0.05
 
 
+class Via(StrEnum):
+    """How the pot reaches its pocket: straight, off one cushion, or through a second ball."""
+
+    DIRECT = "direct"
+    BANK = "bank"
+    COMBO = "combo"
+
+
 @dataclass(frozen=True, slots=True)
 class Pot:
-    """One straight pot: the cue ball at `cue` to the `ghost`, then `target` into `pocket`.
+    """One pot: the cue ball at `cue` to the `ghost`, sending `target` into `pocket` (`via`
+    a cushion or a second ball, or straight).
 
-    d1, d2: the two straight distances (m). cos_cut: cosine of the cut angle. chance: the
+    d1: the cue ball's distance to the ghost (m). cos_cut: cosine of the cut angle on the
+    target. travel: the length of the object balls' paths to the pocket (m). chance: the
     estimated probability that it drops (see the module docstring).
     """
 
@@ -50,9 +65,10 @@ class Pot:
     cue: Point
     ghost: Point
     d1: float
-    d2: float
     cos_cut: float
+    travel: float
     chance: float
+    via: Via = Via.DIRECT
 
     @property
     def heading(self) -> float:
@@ -85,14 +101,50 @@ def tolerance(table: Table, pocket: Pocket, direction: Point) -> float:
     return (mouth / 2 - JAW_SHARE * table.R) * (1 - (angle / limit) ** SHAPE)
 
 
-def chance(tol: float, d1: float, d2: float, cos_cut: float, R: float, noise: Noise) -> float:
+def chance(tol: float, spread: float, noise: Noise) -> float:
     """Estimated pot probability: the object ball's sideways miss at the pocket is Gaussian
-    with sd d2 * d1 * dθ / (2R cos cut), and must stay within `tol`."""
+    with sd `spread` times the heading error (radians), and must stay within `tol`."""
     if tol <= 0.0:
         return 0.0
-    sd_heading = math.radians(max(noise.heading, MIN_HEADING_SD))
-    sd_miss = d2 * max(d1, 2 * R) * sd_heading / (2 * R * cos_cut)
+    sd_miss = spread * math.radians(max(noise.heading, MIN_HEADING_SD))
     return math.erf(tol / (math.sqrt(2) * sd_miss))
+
+
+@dataclass(frozen=True, slots=True)
+class _Leg:
+    """The cue ball's way to the ghost that sends a ball toward a point: the ghost, the
+    distance to it, and the cosine of the cut."""
+
+    ghost: Point
+    d1: float
+    cos_cut: float
+
+
+def _direction(a: Point, b: Point) -> Point:
+    d = math.dist(a, b)
+    return ((b[0] - a[0]) / d, (b[1] - a[1]) / d)
+
+
+def _leg(
+    table: Table, balls: Mapping[str, Point], mover: str, t: str, toward: Point
+) -> _Leg | None:
+    """The leg of ball `mover` to the ghost that sends `t` toward `toward`, if the cut is not
+    too thin and the path is clear of every other ball."""
+    cue, tp = balls[mover], balls[t]
+    g = ghost(tp, toward, table.R)
+    d1 = math.dist(cue, g)
+    if d1 < 1e-6:
+        return None
+    out = _direction(tp, toward)
+    cos_cut = ((g[0] - cue[0]) * out[0] + (g[1] - cue[1]) * out[1]) / d1
+    if cos_cut < MIN_CUT_COS or not path_clear(cue, g, balls, table.R, ignore={mover, t}):
+        return None
+    return _Leg(g, d1, cos_cut)
+
+
+def _turn(leg: _Leg, R: float) -> float:
+    """How much a heading error (radians) turns the object ball's path: d1 / (2R cos cut)."""
+    return max(leg.d1, 2 * R) / (2 * R * leg.cos_cut)
 
 
 def pots(
@@ -110,25 +162,76 @@ def pots(
         tp = balls[t]
         for pocket in table.pockets:
             mouth = pocket.center
+            tol = tolerance(table, pocket, _direction(tp, mouth))
+            if tol <= 0.0 or not path_clear(tp, mouth, balls, R, ignore={"cue", t}):
+                continue
+            leg = _leg(table, {**balls, "cue": cue}, "cue", t, mouth)
+            if leg is None:
+                continue
             d2 = math.dist(tp, mouth)
-            out = ((mouth[0] - tp[0]) / d2, (mouth[1] - tp[1]) / d2)
-            tol = tolerance(table, pocket, out)
-            if tol <= 0.0:
-                continue
-            g = ghost(tp, mouth, R)
-            d1 = math.dist(cue, g)
-            if d1 < 1e-6:
-                continue
-            cos_cut = ((g[0] - cue[0]) * out[0] + (g[1] - cue[1]) * out[1]) / d1
-            if cos_cut < MIN_CUT_COS:
-                continue
-            if not path_clear(cue, g, balls, R, ignore={"cue", t}):
-                continue
-            if not path_clear(tp, mouth, balls, R, ignore={"cue", t}):
-                continue
-            p = chance(tol, d1, d2, cos_cut, R, noise)
-            found.append(Pot(t, pocket.name, cue, g, d1, d2, cos_cut, p))
-    return sorted(found, key=lambda a: (-a.chance, a.target, a.pocket))
+            p = chance(tol, d2 * _turn(leg, R), noise)
+            found.append(Pot(t, pocket.name, cue, leg.ghost, leg.d1, leg.cos_cut, d2, p))
+    return _likeliest(found)
+
+
+def _likeliest(found: list[Pot]) -> list[Pot]:
+    return sorted(found, key=lambda a: (-a.chance, a.target, a.pocket, a.via, a.ghost))
+
+
+def banks(
+    table: Table, cue: Point, balls: Mapping[str, Point], targets: frozenset[str], noise: Noise
+) -> list[Pot]:
+    """One-cushion banks of `targets`: the object ball sent at the mirror image of a pocket,
+    its error on the way grown by BANK_SPREAD (a cushion is no perfect mirror)."""
+    R = table.R
+    found = []
+    for t in sorted(targets):
+        tp = balls[t]
+        for pocket in table.pockets:
+            for bounce in cushion_bounces(table, tp, pocket.center):
+                tol = tolerance(table, pocket, _direction(bounce, pocket.center))
+                clear = path_clear(tp, bounce, balls, R, {"cue", t})
+                if tol <= 0.0 or not clear:
+                    continue
+                if not path_clear(bounce, pocket.center, balls, R, {"cue", t}):
+                    continue
+                leg = _leg(table, {**balls, "cue": cue}, "cue", t, bounce)
+                if leg is None:
+                    continue
+                length = math.dist(tp, bounce) + math.dist(bounce, pocket.center)
+                p = chance(tol, BANK_SPREAD * length * _turn(leg, R), noise)
+                pot = Pot(t, pocket.name, cue, leg.ghost, leg.d1, leg.cos_cut, length, p, Via.BANK)
+                found.append(pot)
+    return _likeliest(found)
+
+
+def combos(
+    table: Table, cue: Point, balls: Mapping[str, Point], targets: frozenset[str], noise: Noise
+) -> list[Pot]:
+    """Two-ball combinations: a legal ball sent into another ball that goes to a pocket (the
+    errors of both cuts multiply)."""
+    R = table.R
+    with_cue = {**balls, "cue": cue}
+    found = []
+    for t in sorted(targets):
+        for o in sorted(b for b in balls if b not in ("cue", t)):
+            op = balls[o]
+            for pocket in table.pockets:
+                tol = tolerance(table, pocket, _direction(op, pocket.center))
+                if tol <= 0.0 or not path_clear(op, pocket.center, balls, R, {"cue", o}):
+                    continue
+                second = _leg(table, with_cue, t, o, pocket.center)
+                if second is None or second.cos_cut < COMBO_MIN_COS:
+                    continue
+                first = _leg(table, with_cue, "cue", t, second.ghost)
+                if first is None:
+                    continue
+                d2 = math.dist(op, pocket.center)
+                p = chance(tol, d2 * _turn(second, R) * _turn(first, R), noise)
+                travel = second.d1 / second.cos_cut + d2
+                pot = Pot(t, pocket.name, cue, first.ghost, first.d1, first.cos_cut, travel, p)
+                found.append(replace(pot, via=Via.COMBO))
+    return _likeliest(found)
 
 
 def cushion_bounces(table: Table, start: Point, end: Point) -> list[Point]:

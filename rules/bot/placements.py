@@ -1,7 +1,8 @@
 """Where the bot considers putting the cue ball when it has ball in hand.
 
-Anywhere on the table: straight behind each legal ball on its line to each pocket, near and
-far (a straight pot, and the length the shot needs for position). Behind the head string or
+Anywhere on the table: behind the ghost ball of the open pots, straight and at a cut angle
+either side (a straight pot scratches too easily, a cut sends the cue ball away for position),
+near and far. Behind the head string or
 in the D: a spread over the region. Every point is on the input's placement grid, inside the
 region and clear of the other balls, so the referee accepts it as it is.
 """
@@ -11,13 +12,18 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+from rules.aim import ghost, path_clear
+from rules.bot.geometry import tolerance
 from rules.inputs import PLACE_STEPS, quantise
 from rules.referee import referee
 from rules.spots import BAULK_Y, D_RADIUS, Point, Table, in_region, is_free
 from rules.state import State
 
-#: Distances (m) behind an object ball, on its line to a pocket, for a ball in hand anywhere.
-BEHIND = (0.15, 0.35)
+#: Ball in hand anywhere: distances (m) behind the ghost ball, cut angles (degrees) of the
+#: line from it, and how many open pots (the object balls nearest their pockets) are served.
+BEHIND = (0.2, 0.45)
+ANGLES = (0.0, 20.0, -20.0)
+OPEN_POTS = 4
 #: The D: radii as fractions of its radius, and angles (degrees) from the baulk line.
 D_RADII = (0.2, 0.55, 0.9)
 D_ANGLES = (0, 30, 60, 90, 120, 150, 180)
@@ -28,13 +34,23 @@ def on_grid(p: Point) -> Point:
 
 
 def _behind_targets(state: State, table: Table, balls: Mapping[str, Point]) -> list[Point]:
-    found = []
+    """Behind the ghost ball of each open pot (the nearest pockets first), straight and at
+    the cut angles of ANGLES on either side, near and far."""
+    R = table.R
+    pairs = []
     for t in sorted(referee(state.game).targets(state, balls)):
         tp = balls[t]
         for pocket in table.pockets:
             d = math.dist(tp, pocket.center)
-            ux, uy = (pocket.center[0] - tp[0]) / d, (pocket.center[1] - tp[1]) / d
-            found += [(tp[0] - k * ux, tp[1] - k * uy) for k in BEHIND]
+            out = ((pocket.center[0] - tp[0]) / d, (pocket.center[1] - tp[1]) / d)
+            if tolerance(table, pocket, out) > 0 and path_clear(tp, pocket.center, balls, R, {t}):
+                pairs.append((d, t, pocket.name, ghost(tp, pocket.center, R), out))
+    found = []
+    for _, _, _, g, out in sorted(pairs)[:OPEN_POTS]:
+        base = math.atan2(-out[1], -out[0])
+        for angle in ANGLES:
+            a = base + math.radians(angle)
+            found += [(g[0] + k * math.cos(a), g[1] + k * math.sin(a)) for k in BEHIND]
     return found
 
 
