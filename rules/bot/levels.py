@@ -6,7 +6,8 @@ does not. The search budget is counted in simulations, never in seconds, so that
 is a function of the position, the level and the seed alone (see rules.bot.search):
 
 - pots: how many of the likeliest straight pots are varied in speed and spin;
-- screen: how many candidates are simulated once without noise to rank them;
+- screen: how many candidates are simulated once without noise to rank them (the pocket
+  games rarely have a hundred; three-cushion's fan of headings is spaced to fill it);
 - width, samples: how many of the best screened go on to `samples` noisy simulations each;
 - leaders, leader_samples: how many of those get `leader_samples` more, before the best
   mean decides;
@@ -45,10 +46,10 @@ class Level:
 #: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples.
 TABLE = (
     (1, 3.0, 2, 12, 3, 2, 0, 0),
-    (2, 2.0, 3, 30, 6, 3, 2, 6),
-    (3, 1.2, 4, 60, 8, 5, 3, 10),
-    (4, 0.6, 5, 90, 10, 6, 4, 16),
-    (5, 0.0, 6, 140, 12, 8, 5, 24),
+    (2, 2.0, 3, 40, 6, 3, 2, 6),
+    (3, 1.2, 4, 100, 8, 5, 3, 10),
+    (4, 0.6, 5, 200, 10, 6, 4, 16),
+    (5, 0.0, 6, 400, 12, 8, 5, 24),
 )
 LEVELS: tuple[Level, ...] = tuple(Level(*row) for row in TABLE)
 STRONGEST = LEVELS[-1]
