@@ -29,7 +29,7 @@ QUICK = level(1)
 
 @pytest.mark.parametrize("game", list(Game))
 def test_there_is_always_a_candidate_the_referee_accepts(game):
-    for seed in range(40):
+    for seed in range(100):
         state = random_position(game, seed)
         if state.pending:
             continue
@@ -44,7 +44,7 @@ def test_the_bot_never_sends_a_refused_input(game):
     """Its own choice, and the same input under the arena's noise, pass the referee's check."""
     bot = Bot(QUICK, seed=7)
     R = referee(game).TABLE.R
-    for seed in range(6):
+    for seed in range(25):
         state = random_position(game, 100 + seed)
         action = bot.choose(state)
         check(state, action)
