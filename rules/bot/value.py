@@ -15,8 +15,6 @@ leaves the opponent none, and any miss that leaves an easy pot costly.
 
 from __future__ import annotations
 
-import math
-
 from rules.bot.geometry import pots
 from rules.bot.noise import Noise
 from rules.bot.placements import placements
@@ -25,7 +23,7 @@ from rules.inputs import OPTIONS, Choice
 from rules.racks import Game
 from rules.referee import referee
 from rules.snooker import value as snooker_value
-from rules.spots import Point, Table, in_region, is_free
+from rules.spots import Point, Table
 from rules.state import State, other
 
 #: A game won (lost: the opposite).
@@ -34,8 +32,9 @@ WIN = 1.0
 KEEP_NOTHING, KEEP_SURE = -0.2, 0.9
 #: Worth of one point scored, per game (pool games score racks, which end the game).
 POINT = {Game.NINEBALL: 0.0, Game.EIGHTBALL: 0.0, Game.SNOOKER: 0.06, Game.THREE_CUSHION: 0.8}
-#: Distance (m) behind the object ball at which a ball in hand anywhere is imagined placed.
-BEHIND = 0.3
+#: A ball in hand anywhere is worth at least a pot of this chance: where no place for a pot
+#: is found, the player still chooses the table he plays from (a safety, a bank, a kick).
+IN_HAND_ANYWHERE = 0.5
 
 
 def _ball_points(state: State, ball: str) -> int:
@@ -59,37 +58,18 @@ def _best_from(state: State, table: Table, cue: Point, balls: dict[str, Point], 
     )
 
 
-def _straight_in(state: State, table: Table, noise: Noise) -> float:
-    """With ball in hand anywhere: the best straight-in pot from BEHIND the object ball."""
-    balls = {b: p for b, p in state.balls.items() if b != "cue"}
-    best = keep(state, 0.0, 0)
-    for t in sorted(referee(state.game).targets(state, balls)):
-        tp = balls[t]
-        for pocket in table.pockets:
-            d2 = math.dist(tp, pocket.center)
-            out = ((pocket.center[0] - tp[0]) / d2, (pocket.center[1] - tp[1]) / d2)
-            place = (tp[0] - BEHIND * out[0], tp[1] - BEHIND * out[1])
-            if not (in_region(place, "anywhere", table) and is_free(place, balls, table.R)):
-                continue
-            found = pots(table, place, {**balls, "cue": place}, frozenset({t}), noise)
-            for a in found:
-                if a.pocket == pocket.name:
-                    best = max(best, keep(state, a.chance, _ball_points(state, t)))
-    return best
-
-
 def position_value(state: State, noise: Noise) -> float:
     """What `state` is worth to the player to act in it (no choice pending)."""
     table = referee(state.game).TABLE
     if not table.pockets:
         return 0.0
-    if state.ball_in_hand == "anywhere":
-        return _straight_in(state, table, noise)
-    if state.ball_in_hand:
-        balls = {b: p for b, p in state.balls.items() if b != "cue"}
-        spots = placements(state, table, balls) or [state.balls.get("cue")]
-        return max(_best_from(state, table, p, {**balls, "cue": p}, noise) for p in spots if p)
-    return _best_from(state, table, state.balls["cue"], dict(state.balls), noise)
+    if not state.ball_in_hand:
+        return _best_from(state, table, state.balls["cue"], dict(state.balls), noise)
+    balls = {b: p for b, p in state.balls.items() if b != "cue"}
+    spots = placements(state, table, balls) + ([state.balls["cue"]] if "cue" in state.balls else [])
+    floor = IN_HAND_ANYWHERE if state.ball_in_hand == "anywhere" else 0.0
+    values = (_best_from(state, table, p, {**balls, "cue": p}, noise) for p in spots)
+    return max([keep(state, floor, 0), *values])
 
 
 def choice_values(state: State, noise: Noise) -> dict[str, float]:
