@@ -1,10 +1,11 @@
 """The bot's bars: arenas against the shot pickers in each game, and the strength ladder.
 
-    .venv/bin/python bench/bot.py [--games N] [--ladder-games N] [--rows ROW,...] [--noise F]
-                                  [--seed S] [--target T] [--workers W]
+    .venv/bin/python bench/bot.py [--rows ROW[:GAMES],...] [--games N] [--noise F] [--seed S]
+                                  [--target T] [--workers W]
 
 Rows: nineball, eightball, snooker, three_cushion (the strongest level against the pickers)
-and ladder (each level against the one below, nine-ball). Prints one table, with the bar each
+and ladder (each level against the one below, nine-ball), each with its own game count
+(`snooker:6`) or --games. Prints one table, with the bar each
 row is held to and the command that printed it; progress (one line a game) goes to stderr.
 The bars want many games (200 nine-ball racks, 20 snooker frames): the defaults are a small
 smoke run, and the table says when a row played fewer games than its bar asks for. Decision
@@ -135,8 +136,7 @@ def line(row: Row, r: dict) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--games", type=int, default=4, help="games per row against the pickers")
-    ap.add_argument("--ladder-games", type=int, default=4, help="games per ladder row")
+    ap.add_argument("--games", type=int, default=4, help="games per row without its own count")
     ap.add_argument("--rows", default="nineball,eightball,snooker,three_cushion,ladder")
     ap.add_argument("--noise", type=float, default=1.0, help="execution noise factor")
     ap.add_argument("--seed", type=int, default=0)
@@ -144,11 +144,11 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=1, help="worker processes per bot")
     args = ap.parse_args()
     table = rows()
-    chosen = [r for name in args.rows.split(",") for r in table[name]]
     lines = []
-    for row in chosen:
-        games = args.ladder_games if row.label.startswith("ladder") else args.games
-        lines.append(line(row, run_row(row, games, args)))
+    for item in args.rows.split(","):
+        name, _, count = item.partition(":")
+        for row in table[name]:
+            lines.append(line(row, run_row(row, int(count) if count else args.games, args)))
     print("    " + shlex.join(["python", "bench/bot.py", *sys.argv[1:]]))
     print(f"noise factor {args.noise}, seed {args.seed}")
     print(HEADER)
