@@ -11,6 +11,11 @@ game service's bot seats and `billiards play --bot` all take one, built from a n
 A bot is deterministic for its seed: the same seed and state give the same input (the search
 and the level's own execution noise are both drawn from streams keyed by the seed and the
 state). `close` releases worker processes, if the chooser has any.
+
+A chooser does no I/O and never touches an event loop: the game service calls `choose` in
+one of its worker processes (a `Bot` is cheap to keep per process and per level; with
+`workers` > 1 it starts worker processes of its own, which a worker process may do), and a
+client such as `billiards play --bot` calls it between two messages.
 """
 
 from __future__ import annotations
@@ -20,7 +25,7 @@ from typing import Protocol, runtime_checkable
 
 import physics
 from rules.bot.levels import STRONGEST, Level, level
-from rules.bot.noise import Noise, draws, perturb, tournament
+from rules.bot.noise import draws, perturb, tournament
 from rules.bot.search import Evaluator, InProcess, Report, Workers, search, state_key
 from rules.bot.value import choice_values
 from rules.game import Simulate
@@ -108,5 +113,3 @@ def chooser(name: str, seed: int = 0, *, expect: float = 1.0, workers: int = 1) 
         return Bot(level(int(number)), seed, expect=expect, workers=workers)
     raise ValueError(f"unknown chooser {name!r}: picker, bot or bot:N")
 
-
-__all__ = ["Bot", "Chooser", "Noise", "Picker", "chooser"]
