@@ -4,6 +4,10 @@ replays, determinism and its search budget. Through the real engine unless a sta
 from __future__ import annotations
 
 import itertools
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 
@@ -23,6 +27,7 @@ from rules.spots import POOL_TABLE, SNOOKER, SNOOKER_SPOTS
 from rules.state import State
 from tests.rules.bot.positions import random_position
 
+ROOT = Path(__file__).resolve().parents[3]
 #: The cheapest level: enough to exercise every path of a decision.
 QUICK = level(1)
 
@@ -171,3 +176,30 @@ def test_chooser_names():
     for bad in ("bot:0", "bot:x", "robot", "bot:99"):
         with pytest.raises(ValueError):
             chooser(bad)
+
+
+DECIDE = """
+from rules.bot.chooser import Bot
+from rules.bot.levels import level
+from rules.racks import Game
+from tests.rules.bot.positions import random_position
+for game, seed in ((Game.EIGHTBALL, 3), (Game.SNOOKER, 4), (Game.THREE_CUSHION, 5)):
+    state = random_position(game, seed).evolve(pending=())
+    print(Bot(level(2), seed=9).choose(state).model_dump_json())
+"""
+
+
+def test_a_decision_does_not_depend_on_the_interpreter_run():
+    """Two interpreters with different string-hash seeds (set orders) decide alike."""
+    runs = [
+        subprocess.run(
+            [sys.executable, "-c", DECIDE],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=ROOT,
+            env={**os.environ, "PYTHONHASHSEED": str(h)},
+        ).stdout
+        for h in (1, 2)
+    ]
+    assert runs[0] == runs[1] and runs[0].count("\n") == 3
