@@ -112,4 +112,3 @@ def chooser(name: str, seed: int = 0, *, expect: float = 1.0, workers: int = 1) 
     if kind == "bot" and number.isdigit():
         return Bot(level(int(number)), seed, expect=expect, workers=workers)
     raise ValueError(f"unknown chooser {name!r}: picker, bot or bot:N")
-

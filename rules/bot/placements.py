@@ -2,7 +2,7 @@
 
 Anywhere on the table: behind the ghost ball of the open pots, straight and at a cut angle
 either side (a straight pot scratches too easily, a cut sends the cue ball away for position),
-near and far. Behind the head string or
+near and far; when no pot is open, a grid over the table. Behind the head string or
 in the D: a spread over the region. Every point is on the input's placement grid, inside the
 region and clear of the other balls, so the referee accepts it as it is.
 """
@@ -55,6 +55,8 @@ def _behind_targets(state: State, table: Table, balls: Mapping[str, Point]) -> l
 
 
 def _spread(region: str, table: Table) -> list[Point]:
+    """Points spread over a region: arcs in the D, a grid behind the head string, a grid over
+    the whole table (for a ball in hand anywhere when no pot is open)."""
     if region == "D":
         cx = table.width / 2
         return [
@@ -64,6 +66,10 @@ def _spread(region: str, table: Table) -> list[Point]:
             )
             for f in D_RADII
             for a in D_ANGLES
+        ]
+    if region == "anywhere":
+        return [
+            (table.width * i / 6, table.length * j / 12) for j in range(1, 12) for i in range(1, 6)
         ]
     head = table.length / 4
     return [
@@ -76,6 +82,10 @@ def placements(state: State, table: Table, balls: Mapping[str, Point]) -> list[P
     region = state.ball_in_hand
     if region is None:
         return []
-    found = _behind_targets(state, table, balls) if region == "anywhere" else _spread(region, table)
-    placed = dict.fromkeys(on_grid(p) for p in found)
-    return [p for p in placed if in_region(p, region, table) and is_free(p, balls, table.R)]
+
+    def usable(points: list[Point]) -> list[Point]:
+        placed = dict.fromkeys(on_grid(p) for p in points)
+        return [p for p in placed if in_region(p, region, table) and is_free(p, balls, table.R)]
+
+    near = usable(_behind_targets(state, table, balls)) if region == "anywhere" else []
+    return near or usable(_spread(region, table))

@@ -4,6 +4,7 @@ replays, determinism and its search budget. Through the real engine unless a sta
 from __future__ import annotations
 
 import itertools
+import math
 import os
 import subprocess
 import sys
@@ -203,3 +204,25 @@ def test_a_decision_does_not_depend_on_the_interpreter_run():
         for h in (1, 2)
     ]
     assert runs[0] == runs[1] and runs[0].count("\n") == 3
+
+
+def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
+    """The 1 ringed by six balls, the cue ball in hand: no pot is open, the bot still plays
+    a legal input (from a place on the grid over the table)."""
+    centre, d = (0.635, 1.27), 2 * POOL_TABLE.R + 0.001
+    ring = {
+        str(n): (
+            centre[0] + d * math.cos(k * math.pi / 3),
+            centre[1] + d * math.sin(k * math.pi / 3),
+        )
+        for k, n in enumerate(range(2, 8))
+    }
+    state = nineball({"1": centre, **ring, "9": (0.2, 2.3)}, ball_in_hand="anywhere")
+    assert not candidates_with_pots(state)
+    action = Bot(QUICK, seed=1).choose(state)
+    check(state, action)
+    assert action.place is not None
+
+
+def candidates_with_pots(state: State) -> list:
+    return [c for c in candidates(state, STRONGEST) if c.pot is not None]
