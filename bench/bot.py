@@ -6,7 +6,8 @@
 Rows: nineball, eightball, snooker, three_cushion (the strongest level against the pickers)
 and ladder (each level against the one below, nine-ball), each with its own game count
 (`snooker:6`) or --games. Prints one table, with the bar each
-row is held to and the command that printed it; progress (one line a game) goes to stderr.
+row is held to and the command that printed it, a row as soon as it is played; progress (one
+line a game) goes to stderr.
 The bars want many games (200 nine-ball racks, 20 snooker frames): the defaults are a small
 smoke run, and the table says when a row played fewer games than its bar asks for. Decision
 times are the bot's own (one process unless --workers), on a machine that may be shared.
@@ -144,16 +145,14 @@ def main() -> None:
     ap.add_argument("--workers", type=int, default=1, help="worker processes per bot")
     args = ap.parse_args()
     table = rows()
-    lines = []
+    print("    " + shlex.join(["python", "bench/bot.py", *sys.argv[1:]]))
+    print(f"noise factor {args.noise}, seed {args.seed}")
+    print(HEADER, flush=True)
     for item in args.rows.split(","):
         name, _, count = item.partition(":")
         for row in table[name]:
-            lines.append(line(row, run_row(row, int(count) if count else args.games, args)))
-    print("    " + shlex.join(["python", "bench/bot.py", *sys.argv[1:]]))
-    print(f"noise factor {args.noise}, seed {args.seed}")
-    print(HEADER)
-    for text in lines:
-        print(text)
+            result = run_row(row, int(count) if count else args.games, args)
+            print(line(row, result), flush=True)
 
 
 if __name__ == "__main__":
