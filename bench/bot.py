@@ -5,10 +5,9 @@
 
 Rows: nineball, eightball, snooker, three_cushion (the strongest level against the pickers)
 and ladder (each level against the one below, nine-ball), each with its own game count
-(`snooker:6`) or --games. Prints one table, with the bar each
-row is held to and the command that printed it, a row as soon as it is played; progress (one
-line a game) goes to stderr.
-The bars want many games (200 nine-ball racks, 20 snooker frames): the defaults are a small
+(`snooker:6`) or --games. Prints one table, with the bar each row is held to and the command
+that printed it, a row as soon as it is played; progress (one line a game) goes to stderr. The
+bars want many games (200 nine-ball racks, 20 snooker frames): the defaults are a small
 smoke run, and the table says when a row played fewer games than its bar asks for. Decision
 times are the bot's own (one process unless --workers), on a machine that may be shared.
 """
