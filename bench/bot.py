@@ -9,7 +9,8 @@ and ladder (each level against the one below, nine-ball), each with its own game
 that printed it, a row as soon as it is played; progress (one line a game) goes to stderr. The
 bars want many games (200 nine-ball racks, 20 snooker frames): the defaults are a small
 smoke run, and the table says when a row played fewer games than its bar asks for. Decision
-times are the bot's own (one process unless --workers), on a machine that may be shared.
+times are the bot's own (one process unless --workers), on a machine that may be shared;
+"sims" is the mean number of simulations a shot's search ran, which no machine changes.
 """
 
 from __future__ import annotations
@@ -117,7 +118,7 @@ def run_row(row: Row, games: int, args: argparse.Namespace) -> dict:
 
 HEADER = (
     f"{'row':<14}{'a':>6} {'b':>7}{'games':>6}{'a wins':>8}  {'95% CI':<13}{'per visit':>9}"
-    f"{'run-outs':>9}{'highest':>8}{'median s':>9}{'p95 s':>7}  bar"
+    f"{'run-outs':>9}{'highest':>8}{'median s':>9}{'p95 s':>7}{'sims':>6}  bar"
 )
 
 
@@ -130,7 +131,8 @@ def line(row: Row, r: dict) -> str:
     return (
         f"{row.label:<14}{row.a:>6} {row.b:>7}{r['games']:>6}{a['wins'] / r['games']:>8.0%}  "
         f"{ci:<13}{a['per_visit']:>9.2f}{a['run_outs'] / r['games']:>9.0%}{a['highest']:>8}"
-        f"{a['decision_median_s']:>9.2f}{a['decision_p95_s']:>7.2f}  {row.bar}: {verdict}"
+        f"{a['decision_median_s']:>9.2f}{a['decision_p95_s']:>7.2f}{a['simulations_mean']:>6.0f}"
+        f"  {row.bar}: {verdict}"
     )
 
 

@@ -144,7 +144,7 @@ def arena_lines(result: dict) -> Iterator[str]:
     yield f"{result['game']}: {result['games']} games, {result['unfinished']} unfinished"
     yield (
         f"{'chooser':<10}{'wins':>6}  {'95% CI':<14}{'per visit':>10}{'run-outs':>10}"
-        f"{'highest':>9}{'mean s':>9}{'p95 s':>8}"
+        f"{'highest':>9}{'mean s':>9}{'p95 s':>8}{'sims':>7}"
     )
     for key in ("a", "b"):
         s = result[key]
@@ -152,6 +152,7 @@ def arena_lines(result: dict) -> Iterator[str]:
         yield (
             f"{s['name']:<10}{s['wins']:>6}  {ci:<14}{s['per_visit']:>10.2f}{s['run_outs']:>10}"
             f"{s['highest']:>9}{s['decision_mean_s']:>9.3f}{s['decision_p95_s']:>8.3f}"
+            f"{s['simulations_mean']:>7.0f}"
         )
 
 

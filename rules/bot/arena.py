@@ -10,7 +10,9 @@ suffer it alike, and the whole arena is reproducible from its seed.
 Per side it counts wins (with a 95% Wilson interval), visits (a player's turn at the table,
 from coming to the table to leaving it) and what they scored (object balls legally pocketed
 in pool, points in snooker and three-cushion), run-outs (games whose winner had a single
-visit, the break included when they broke), the highest visit, and each decision's time.
+visit, the break included when they broke), the highest visit, each decision's time and, for
+a searching bot, the simulations each shot's search ran (the cost that does not depend on the
+machine: a faster engine divides the time, not this).
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from dataclasses import dataclass, field
 
 from rules.bot.chooser import Chooser
 from rules.bot.noise import Noise, draws, perturb
+from rules.bot.search import Report
 from rules.codes import RuleError
 from rules.game import Setup, check, play, start
 from rules.inputs import Shot
@@ -56,6 +59,7 @@ class Side:
     run_outs: int = 0
     highest: int = 0
     times: list[float] = field(default_factory=list)
+    simulations: list[int] = field(default_factory=list)
 
     def summary(self, games: int) -> dict:
         times = sorted(self.times)
@@ -72,6 +76,9 @@ class Side:
             "decision_median_s": round(statistics.median(times), 4) if times else 0.0,
             "decision_p95_s": round(p95, 4),
             "decisions": len(times),
+            "simulations_mean": round(statistics.fmean(self.simulations), 1)
+            if self.simulations
+            else 0.0,
         }
 
 
@@ -117,6 +124,9 @@ def play_game(
         t0 = clock()
         action = choosers[seat].choose(state)
         seats[seat].times.append(clock() - t0)
+        report = getattr(choosers[seat], "last", None)
+        if isinstance(action, Shot) and isinstance(report, Report):
+            seats[seat].simulations.append(report.simulations)
         try:
             check(state, action)
         except RuleError as exc:

@@ -6,7 +6,8 @@ from __future__ import annotations
 import json
 
 from rules.bot.arena import arena, wilson
-from rules.bot.chooser import Picker
+from rules.bot.chooser import Picker, chooser
+from rules.bot.levels import level
 from rules.bot.noise import tournament
 from rules.inputs import PlayerInput
 from rules.racks import Game
@@ -83,3 +84,10 @@ def test_the_arena_command_prints_json(capsys):
 def test_the_arena_command_refuses_an_unknown_chooser(capsys):
     assert main(["arena", "nineball", "--a", "robot", "--games", "1"]) == 2
     assert "robot" in capsys.readouterr().err
+
+
+def test_a_bots_simulations_are_counted():
+    bot = chooser("bot:1", seed=3)
+    result = arena(Game.NINEBALL, bot, Picker(), 1, seed=4, noise=tournament(1.0), max_inputs=6)
+    assert 0 < result["a"]["simulations_mean"] <= level(1).budget
+    assert result["b"]["simulations_mean"] == 0.0
