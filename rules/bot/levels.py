@@ -45,10 +45,10 @@ class Level:
 
 #: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples.
 TABLE = (
-    (1, 3.0, 2, 12, 3, 2, 0, 0),
-    (2, 2.2, 3, 40, 6, 3, 2, 6),
-    (3, 1.6, 4, 100, 8, 5, 3, 10),
-    (4, 1.0, 5, 200, 12, 6, 4, 16),
+    (1, 6.0, 2, 12, 3, 2, 0, 0),
+    (2, 4.0, 3, 40, 6, 3, 2, 6),
+    (3, 2.5, 4, 100, 8, 5, 3, 10),
+    (4, 1.2, 5, 200, 12, 6, 4, 16),
     (5, 0.0, 6, 400, 16, 10, 5, 32),
 )
 LEVELS: tuple[Level, ...] = tuple(Level(*row) for row in TABLE)
