@@ -1,4 +1,4 @@
-"""`billiards selfplay GAME [--seed N]` and `billiards replay RECORD`.
+"""`billiards selfplay GAME [--seed N]`, `billiards replay RECORD` and `billiards arena GAME`.
 
 Both print the same thing, one line per input: the referee's decision on each shot and each
 choice made, then the final scores. selfplay can save its record (--record FILE, JSON; --link
@@ -6,6 +6,9 @@ prints the compact share-link form), and replaying that file prints exactly the 
 printed. replay reads a JSON record or a share link, and refuses (exit status 2, one line on
 stderr naming the input) a record that does not replay to the game it states. The only module
 of `rules` that does I/O.
+
+arena plays games between two choosers (rules.bot.chooser: picker, bot, bot:N) under one
+execution noise and prints each side's results (rules.bot.arena), progress on stderr.
 """
 
 from __future__ import annotations
@@ -34,6 +37,24 @@ def register(sub: argparse._SubParsersAction) -> None:
     rep = sub.add_parser("replay", help="replay a game record and print every decision")
     rep.add_argument("record", help="game record (JSON or share link) file, or - for stdin")
     rep.set_defaults(func=run_replay)
+    register_arena(sub)
+
+
+def register_arena(sub: argparse._SubParsersAction) -> None:
+    arena = sub.add_parser("arena", help="play games between two choosers (picker, bot, bot:N)")
+    arena.add_argument("game", choices=[g.value for g in Game])
+    arena.add_argument("--a", default="bot", help="first chooser (default: bot)")
+    arena.add_argument("--b", default="picker", help="second chooser (default: picker)")
+    arena.add_argument("--games", type=int, default=10, help="games to play (default 10)")
+    arena.add_argument("--seed", type=int, default=0, help="arena seed (default 0)")
+    arena.add_argument(
+        "--noise", type=float, default=1.0, help="execution noise, factor of the tournament's"
+    )
+    arena.add_argument("--target", type=int, default=0, help="three-cushion points to win")
+    arena.add_argument("--max-inputs", type=int, default=400, help="inputs before a game stops")
+    arena.add_argument("--workers", type=int, default=1, help="worker processes per bot")
+    arena.add_argument("--json", action="store_true", help="print the result as one JSON object")
+    arena.set_defaults(func=run_arena)
 
 
 def describe(replay: Replay) -> Iterator[str]:
@@ -115,4 +136,71 @@ def run_replay(args: argparse.Namespace) -> int:
         return 2
     for line in describe(result):
         print(line)
+    return 0
+
+
+def arena_lines(result: dict) -> Iterator[str]:
+    """The table `billiards arena` prints."""
+    yield f"{result['game']}: {result['games']} games, {result['unfinished']} unfinished"
+    yield (
+        f"{'chooser':<10}{'wins':>6}  {'95% CI':<14}{'per visit':>10}{'run-outs':>10}"
+        f"{'highest':>9}{'mean s':>9}{'p95 s':>8}{'sims':>7}"
+    )
+    for key in ("a", "b"):
+        s = result[key]
+        ci = f"[{s['ci95'][0]:.2f}, {s['ci95'][1]:.2f}]"
+        yield (
+            f"{s['name']:<10}{s['wins']:>6}  {ci:<14}{s['per_visit']:>10.2f}{s['run_outs']:>10}"
+            f"{s['highest']:>9}{s['decision_mean_s']:>9.3f}{s['decision_p95_s']:>8.3f}"
+            f"{s['simulations_mean']:>7.0f}"
+        )
+
+
+def run_arena(args: argparse.Namespace) -> int:
+    import json
+
+    from rules.bot.arena import arena
+    from rules.bot.chooser import chooser
+    from rules.bot.noise import tournament
+
+    if args.games < 1 or args.max_inputs < 1 or args.workers < 1:
+        print("billiards arena: --games, --max-inputs and --workers must be >= 1", file=sys.stderr)
+        return 2
+    try:
+        noise = tournament(args.noise)
+        a = chooser(args.a, 2 * args.seed + 1, expect=args.noise, workers=args.workers)
+        b = chooser(args.b, 2 * args.seed + 2, expect=args.noise, workers=args.workers)
+    except ValueError as exc:
+        print(f"billiards arena: {exc}", file=sys.stderr)
+        return 2
+
+    def progress(i, game, sa, sb) -> None:
+        won = "unfinished" if game.winner is None else f"won by seat {game.winner + 1}"
+        print(
+            f"game {i + 1}/{args.games}: {won} after {game.inputs} inputs; "
+            f"{sa.name} {sa.wins} - {sb.wins} {sb.name}",
+            file=sys.stderr,
+            flush=True,
+        )
+
+    try:
+        result = arena(
+            Game(args.game),
+            a,
+            b,
+            args.games,
+            args.seed,
+            noise,
+            target=args.target,
+            max_inputs=args.max_inputs,
+            progress=progress,
+        )
+    finally:
+        a.close()
+        b.close()
+    if args.json:
+        print(json.dumps(result))
+    else:
+        for line in arena_lines(result):
+            print(line)
     return 0

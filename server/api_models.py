@@ -60,7 +60,15 @@ class InputKind(StrEnum):
 
 
 class BotName(StrEnum):
+    """The server's opponents: the rules' simple shot picker, or the searching bot at a level
+    from 1 (a beginner) to 5 (the strongest), as `rules.bot.chooser` names them."""
+
     PICKER = "picker"
+    LEVEL_1 = "bot:1"
+    LEVEL_2 = "bot:2"
+    LEVEL_3 = "bot:3"
+    LEVEL_4 = "bot:4"
+    LEVEL_5 = "bot:5"
 
 
 class QuickText(StrEnum):
@@ -145,7 +153,7 @@ class TableCreate(BaseModel):
     race_to: RaceTo = 1
     shot_clock: ShotClock = 0
     private: bool = False
-    bot: BotName = BotName.PICKER
+    bot: BotName = BotName.LEVEL_3
 
     def options(self) -> TableOptions:
         return TableOptions(race_to=self.race_to, shot_clock=self.shot_clock, private=self.private)

@@ -298,7 +298,7 @@ class MatchOwner:
         occupant = record.seats[seat] if seat is not None else None
         if occupant is None or not tables.is_bot(occupant):
             return
-        action = await self._context.pool.bot_input(record.state)
+        action = await self._context.pool.bot_input(record.state, tables.chooser_of(occupant))
         intent = Intent(version=record.version, shot_id=f"bot-{record.version:08d}", input=action)
         await self._play_quietly(occupant, intent, on_time=True)
 

@@ -2,8 +2,9 @@
 
 Both talk to a server only through its public API (server/client.py). `play` registers a
 guest, gets a table (quick match, a new table, a private link, practice or the bot), then
-plays every shot its seat is to play with a shot chooser (`--bot picker`: the rules' shot
-pickers) and prints each outcome as it arrives, one line each, until the match is over.
+plays every shot its seat is to play with a shot chooser (`--bot picker`, the rules' shot
+pickers, by default; `--bot bot:N` the searching bot at level N, `--bot bot` its strongest)
+and prints each outcome as it arrives, one line each, until the match is over.
 `submit` sends a game record (as `billiards selfplay --record` writes it), a name and the
 claimed score to the leaderboard, and prints the verdict. Exit status 0 on success, 2 with one
 line when the server refused something (a claim that does not hold says why).
@@ -16,14 +17,14 @@ import asyncio
 import secrets
 import sys
 from collections.abc import Awaitable, Callable
+from functools import partial
 from typing import TYPE_CHECKING
 
 from server.api_models import OutcomeMessage, Status, TableView
 
 if TYPE_CHECKING:
+    from rules.bot.chooser import Chooser
     from server.client import GameClient
-
-CHOOSERS = ("picker",)
 
 
 def outcome_line(change: TableView | OutcomeMessage, names: list[str]) -> str:
@@ -64,15 +65,15 @@ async def _open_table(client: GameClient, args: argparse.Namespace) -> TableView
 
 
 async def _shoot_if_mine(
-    client: GameClient, view_id: str, change: TableView | OutcomeMessage
+    chooser: Chooser, client: GameClient, view_id: str, change: TableView | OutcomeMessage
 ) -> None:
-    from server import refereeing
     from server.client import Refused
 
     nxt = change.next
     if nxt is None or nxt.player != client.player.id:
         return
-    action = refereeing.bot_input(change.state)
+    # The search runs here, in the client's own process: it blocks nothing but this client.
+    action = chooser.choose(change.state)
     try:
         await client.send(view_id, change.version, action.model_dump(mode="json"))
     except Refused as refusal:
@@ -100,15 +101,20 @@ async def _print_changes(client: GameClient, view: TableView, react: React | Non
 async def play(args: argparse.Namespace) -> int:
     import aiohttp
 
-    from server.client import GameClient
+    from rules.bot.chooser import chooser
+    from server.client import GameClient, Refused
 
+    try:
+        shoot = partial(_shoot_if_mine, chooser(args.bot, secrets.randbits(32)))
+    except ValueError as error:
+        raise Refused(0, "unknown_chooser", str(error)) from None
     async with aiohttp.ClientSession() as session:
         client = GameClient(args.url, session)
         await client.register(args.name or f"cli-{secrets.token_hex(3)}")
         view = await _open_table(client, args)
         print(f"table {view.id}: {view.game}, you are {client.player.name}", flush=True)
-        await _shoot_if_mine(client, view.id, view)
-        return await _print_changes(client, view, _shoot_if_mine)
+        await shoot(client, view.id, view)
+        return await _print_changes(client, view, shoot)
 
 
 async def watch(args: argparse.Namespace) -> int:
@@ -182,7 +188,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     how.add_argument("--practice", action="store_true", help="a solo practice table")
     how.add_argument("--vs-bot", action="store_true", help="a table against the server's bot")
     parser.add_argument("--private", action="store_true", help="with --create: not listed")
-    parser.add_argument("--bot", choices=CHOOSERS, default="picker", help="shot chooser")
+    parser.add_argument(
+        "--bot", default="picker", help="shot chooser: picker (default), bot:N (level N), bot"
+    )
     parser.add_argument("--name", help="display name (default: cli-<random>)")
     parser.set_defaults(func=_run(play))
 

@@ -14,11 +14,11 @@ import math
 from dataclasses import dataclass
 
 import physics
+from rules.bot.chooser import chooser
 from rules.codes import RuleError
 from rules.game import Setup, play, start
 from rules.game import check as rules_check
 from rules.inputs import Choice, PlayerInput, Shot, accept
-from rules.pickers import pick
 from rules.racks import Game as GameName
 from rules.record import GameRecord, replay
 from rules.referee import allowed
@@ -27,6 +27,8 @@ from rules.spots import in_region, is_free
 from rules.state import Decision, Region, State
 from server.trajectories import Trajectory, wire_trajectory
 
+#: The seed of the server's bots: their noise draws are keyed by it and by the state.
+BOT_SEED = 0
 #: Cue speed (m/s) of the stroke played when the shot clock runs out: it rolls about 1 cm.
 TIMEOUT_SPEED = 0.05
 
@@ -194,6 +196,8 @@ def verify(record_json: bytes) -> Verified:
     return Verified(game=record.setup.game, best=best, inputs=len(record.inputs))
 
 
-def bot_input(state: State) -> PlayerInput:
-    """The shot pickers' input for the player to act (run in a worker process)."""
-    return pick(state)
+def bot_input(state: State, bot: str) -> PlayerInput:
+    """The input of the server's opponent `bot` (a chooser name: "picker" or "bot:N") for the
+    player to act (run in a worker process). Its search is seeded by the table's state, so a
+    game against it replays."""
+    return chooser(bot, BOT_SEED).choose(state)

@@ -98,6 +98,11 @@ def is_bot(player: PlayerInfo) -> bool:
     return player.id.startswith("bot:")
 
 
+def chooser_of(bot: PlayerInfo) -> str:
+    """The chooser name (`rules.bot.chooser`) of a bot player made by `bot_player`."""
+    return bot.id.removeprefix("bot:")
+
+
 def new_table(table_id: str, create: TableCreate, creator: PlayerInfo, seed: int) -> TableRecord:
     """A table as created: practice and bot tables play at once, a match waits for a player."""
     second = bot_player(create.bot) if create.mode is Mode.BOT else None

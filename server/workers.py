@@ -56,8 +56,8 @@ class WorkerPool:
     async def referee(self, state: State, action: PlayerInput) -> refereeing.Refereed:
         return await self._run(refereeing.referee, state, action)
 
-    async def bot_input(self, state: State) -> PlayerInput:
-        return await self._run(refereeing.bot_input, state)
+    async def bot_input(self, state: State, bot: str) -> PlayerInput:
+        return await self._run(refereeing.bot_input, state, bot)
 
     async def verify(self, record_json: bytes) -> refereeing.Verified:
         return await self._run(refereeing.verify, record_json)

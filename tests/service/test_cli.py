@@ -47,6 +47,8 @@ async def test_a_refusal_exits_2_with_one_line(server: TestClient) -> None:
     assert code == 2 and err.strip() == "refused: not_found: no such table"
     code, _, err = await finish(await run("watch", "http://127.0.0.1:1", "f" * 20))
     assert code == 2 and len(err.strip().splitlines()) == 1
+    code, _, err = await finish(await run("play", url, "nineball", "--bot", "bot:99"))
+    assert code == 2 and err.startswith("refused: unknown_chooser:") and err.count("\n") == 1
 
 
 async def test_submit_prints_the_verdict_or_the_reason(server: TestClient, tmp_path: Path) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import time
 
+import pytest
 from aiohttp.test_utils import TestClient
 
 from server.lobby import BATCH
@@ -72,10 +73,13 @@ async def test_the_lobby_batches_a_crowd_into_few_snapshots(server: TestClient) 
     assert private["id"] not in {t["id"] for t in listed["tables"]}
 
 
-async def test_the_bot_answers_through_the_same_match_path(server: TestClient) -> None:
+@pytest.mark.parametrize("bot", ["picker", "bot:1", None])
+async def test_the_bot_answers_through_the_same_match_path(server: TestClient, bot) -> None:
+    """The pickers and the searching bot (None: the default level, 3) play through the same
+    path as a person: the foul gives them ball in hand, and their input is refereed."""
     ada = await register(server, "Ada")
-    view = await ada.create("nineball", mode="bot")
-    assert view["status"] == "playing" and view["seats"][1]["id"] == "bot:picker"
+    view = await ada.create("nineball", mode="bot", **({"bot": bot} if bot else {}))
+    assert view["status"] == "playing" and view["seats"][1]["id"] == f"bot:{bot or 'bot:3'}"
     watcher = await watch(server, view["channel"])
     miss = {"strike": {"ball": "cue", "speed": 0.5, "heading": 270.0}}  # away from every ball
     status, _ = await ada.shoot(view["id"], view["version"], miss)

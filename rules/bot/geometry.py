@@ -1,0 +1,255 @@
+"""The straight-line geometry the bot plans with: pots it can see, and how likely each is.
+
+A pot is a ghost-ball aim: the cue ball's centre travels to the ghost ball (2R behind the
+object ball on the line to the pocket) and the object ball leaves along that line. Its chance
+under execution noise is estimated without simulating, from how a heading error grows on its
+way: a cue ball that strays by d1·dθ sideways at the object ball turns the contact line by
+d1·dθ / (2R cos cut), and the object ball then misses its line at the pocket by d2 times that;
+the pot drops when that miss is within the pocket's tolerance (about half the mouth, narrowed
+as the ball approaches the mouth at an angle, fitted to the engine's pockets). This estimate
+ranks the pots the search simulates and values the position a shot leaves (the look-ahead);
+the referee, on simulated shots, decides everything else.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from enum import StrEnum
+
+from physics.tables import Pocket
+from rules.aim import ghost, path_clear
+from rules.bot.noise import Noise
+from rules.spots import Point, Table
+
+#: The pocket's tolerance: half the mouth less this share of the ball radius straight down the
+#: axis, shrinking as (1 - (angle / limit)^SHAPE) with the angle between the ball's path and
+#: the axis, to nothing at the limit (degrees). Fitted to the engine: 535 straight pots from
+#: random nine-ball positions, 12 plays each under the tournament noise, cut the squared error
+#: of the estimate against the rate seen from 68 to 11.
+JAW_SHARE = 0.3
+CORNER_LIMIT, SIDE_LIMIT = 90.0, 60.0
+SHAPE = 3
+#: Thinnest cut planned (cos of the cut angle): thinner cuts leave too little to aim at.
+MIN_CUT_COS = 0.2
+#: A bank's error grows this much more than its path length alone says.
+BANK_SPREAD = 1.5
+#: Thinnest cut of the second ball of a combination (cos of the cut angle).
+COMBO_MIN_COS = 0.7
+#: Heading error assumed by the estimate at the least (degrees): even a perfect hand misses a
+#: little, so no pot is certain and long pots still rank below short ones.
+MIN_HEADING_SD = 0.05
+
+
+class Via(StrEnum):
+    """How the pot reaches its pocket: straight, off one cushion, or through a second ball."""
+
+    DIRECT = "direct"
+    BANK = "bank"
+    COMBO = "combo"
+
+
+@dataclass(frozen=True, slots=True)
+class Pot:
+    """One pot: the cue ball at `cue` to the `ghost`, sending `target` into `pocket` (`via`
+    a cushion or a second ball, or straight).
+
+    d1: the cue ball's distance to the ghost (m). cos_cut: cosine of the cut angle on the
+    target. travel: the length of the object balls' paths to the pocket (m). chance: the
+    estimated probability that it drops (see the module docstring).
+    """
+
+    target: str
+    pocket: str
+    cue: Point
+    ghost: Point
+    d1: float
+    cos_cut: float
+    travel: float
+    chance: float
+    via: Via = Via.DIRECT
+
+    @property
+    def heading(self) -> float:
+        return math.degrees(math.atan2(self.ghost[1] - self.cue[1], self.ghost[0] - self.cue[0]))
+
+
+def side_pocket(pocket: Pocket) -> bool:
+    return pocket.name.startswith("middle")
+
+
+def pocket_axis(table: Table, pocket: Pocket) -> Point:
+    """The unit direction a ball travels when it enters `pocket` straight down its throat."""
+    dx = -1.0 if pocket.center[0] < table.width / 2 else 1.0
+    if side_pocket(pocket):
+        return (dx, 0.0)
+    dy = -1.0 if pocket.center[1] < table.length / 2 else 1.0
+    return (dx / math.sqrt(2), dy / math.sqrt(2))
+
+
+def tolerance(table: Table, pocket: Pocket, direction: Point) -> float:
+    """How far (m) the object ball's centre may stray sideways from the pocket's centre and
+    still drop, for a ball travelling along the unit `direction`; 0 when it cannot drop."""
+    axis = pocket_axis(table, pocket)
+    cos_in = direction[0] * axis[0] + direction[1] * axis[1]
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, cos_in))))
+    limit = SIDE_LIMIT if side_pocket(pocket) else CORNER_LIMIT
+    if angle >= limit:
+        return 0.0
+    mouth = table.spec.side_mouth if side_pocket(pocket) else table.spec.corner_mouth
+    return (mouth / 2 - JAW_SHARE * table.R) * (1 - (angle / limit) ** SHAPE)
+
+
+def chance(tol: float, spread: float, noise: Noise) -> float:
+    """Estimated pot probability: the object ball's sideways miss at the pocket is Gaussian
+    with sd `spread` times the heading error (radians), and must stay within `tol`."""
+    if tol <= 0.0:
+        return 0.0
+    sd_miss = spread * math.radians(max(noise.heading, MIN_HEADING_SD))
+    return math.erf(tol / (math.sqrt(2) * sd_miss))
+
+
+@dataclass(frozen=True, slots=True)
+class _Leg:
+    """The cue ball's way to the ghost that sends a ball toward a point: the ghost, the
+    distance to it, and the cosine of the cut."""
+
+    ghost: Point
+    d1: float
+    cos_cut: float
+
+
+def _direction(a: Point, b: Point) -> Point:
+    d = math.dist(a, b)
+    return ((b[0] - a[0]) / d, (b[1] - a[1]) / d)
+
+
+def _leg(
+    table: Table, balls: Mapping[str, Point], mover: str, t: str, toward: Point
+) -> _Leg | None:
+    """The leg of ball `mover` to the ghost that sends `t` toward `toward`, if the cut is not
+    too thin and the path is clear of every other ball."""
+    cue, tp = balls[mover], balls[t]
+    g = ghost(tp, toward, table.R)
+    d1 = math.dist(cue, g)
+    if d1 < 1e-6:
+        return None
+    out = _direction(tp, toward)
+    cos_cut = ((g[0] - cue[0]) * out[0] + (g[1] - cue[1]) * out[1]) / d1
+    if cos_cut < MIN_CUT_COS or not path_clear(cue, g, balls, table.R, ignore={mover, t}):
+        return None
+    return _Leg(g, d1, cos_cut)
+
+
+def _turn(leg: _Leg, R: float) -> float:
+    """How much a heading error (radians) turns the object ball's path: d1 / (2R cos cut)."""
+    return max(leg.d1, 2 * R) / (2 * R * leg.cos_cut)
+
+
+def pots(
+    table: Table,
+    cue: Point,
+    balls: Mapping[str, Point],
+    targets: frozenset[str],
+    noise: Noise,
+) -> list[Pot]:
+    """Every straight pot of one of `targets` whose two paths are clear, likeliest first (ties
+    by target and pocket name, so the order is fixed)."""
+    R = table.R
+    found = []
+    for t in sorted(targets):
+        tp = balls[t]
+        for pocket in table.pockets:
+            mouth = pocket.center
+            tol = tolerance(table, pocket, _direction(tp, mouth))
+            if tol <= 0.0 or not path_clear(tp, mouth, balls, R, ignore={"cue", t}):
+                continue
+            leg = _leg(table, {**balls, "cue": cue}, "cue", t, mouth)
+            if leg is None:
+                continue
+            d2 = math.dist(tp, mouth)
+            p = chance(tol, d2 * _turn(leg, R), noise)
+            found.append(Pot(t, pocket.name, cue, leg.ghost, leg.d1, leg.cos_cut, d2, p))
+    return _likeliest(found)
+
+
+def _likeliest(found: list[Pot]) -> list[Pot]:
+    return sorted(found, key=lambda a: (-a.chance, a.target, a.pocket, a.via, a.ghost))
+
+
+def banks(
+    table: Table, cue: Point, balls: Mapping[str, Point], targets: frozenset[str], noise: Noise
+) -> list[Pot]:
+    """One-cushion banks of `targets`: the object ball sent at the mirror image of a pocket,
+    its error on the way grown by BANK_SPREAD (a cushion is no perfect mirror)."""
+    R = table.R
+    found = []
+    for t in sorted(targets):
+        tp = balls[t]
+        for pocket in table.pockets:
+            for bounce in cushion_bounces(table, tp, pocket.center):
+                tol = tolerance(table, pocket, _direction(bounce, pocket.center))
+                clear = path_clear(tp, bounce, balls, R, {"cue", t})
+                if tol <= 0.0 or not clear:
+                    continue
+                if not path_clear(bounce, pocket.center, balls, R, {"cue", t}):
+                    continue
+                leg = _leg(table, {**balls, "cue": cue}, "cue", t, bounce)
+                if leg is None:
+                    continue
+                length = math.dist(tp, bounce) + math.dist(bounce, pocket.center)
+                p = chance(tol, BANK_SPREAD * length * _turn(leg, R), noise)
+                pot = Pot(t, pocket.name, cue, leg.ghost, leg.d1, leg.cos_cut, length, p, Via.BANK)
+                found.append(pot)
+    return _likeliest(found)
+
+
+def combos(
+    table: Table, cue: Point, balls: Mapping[str, Point], targets: frozenset[str], noise: Noise
+) -> list[Pot]:
+    """Two-ball combinations: a legal ball sent into another ball that goes to a pocket (the
+    errors of both cuts multiply)."""
+    R = table.R
+    with_cue = {**balls, "cue": cue}
+    found = []
+    for t in sorted(targets):
+        for o in sorted(b for b in balls if b not in ("cue", t)):
+            op = balls[o]
+            for pocket in table.pockets:
+                tol = tolerance(table, pocket, _direction(op, pocket.center))
+                if tol <= 0.0 or not path_clear(op, pocket.center, balls, R, {"cue", o}):
+                    continue
+                second = _leg(table, with_cue, t, o, pocket.center)
+                if second is None or second.cos_cut < COMBO_MIN_COS:
+                    continue
+                first = _leg(table, with_cue, "cue", t, second.ghost)
+                if first is None:
+                    continue
+                d2 = math.dist(op, pocket.center)
+                p = chance(tol, d2 * _turn(second, R) * _turn(first, R), noise)
+                travel = second.d1 / second.cos_cut + d2
+                pot = Pot(t, pocket.name, cue, first.ghost, first.d1, first.cos_cut, travel, p)
+                found.append(replace(pot, via=Via.COMBO))
+    return _likeliest(found)
+
+
+def cushion_bounces(table: Table, start: Point, end: Point) -> list[Point]:
+    """Where a ball's centre, travelling from `start`, meets each of the four cushion lines
+    (R inside the rails) on a one-cushion path that ends at `end`: mirror `end` in the line
+    and intersect. Bounces within a ball of a pocket are left out (the ball would drop)."""
+    R = table.R
+    found = []
+    for axis, line in ((0, R), (0, table.width - R), (1, R), (1, table.length - R)):
+        image = list(end)
+        image[axis] = 2 * line - end[axis]
+        span = image[axis] - start[axis]
+        if abs(span) < 1e-9:
+            continue
+        f = (line - start[axis]) / span
+        if not 0.0 < f < 1.0:
+            continue
+        at = (start[0] + f * (image[0] - start[0]), start[1] + f * (image[1] - start[1]))
+        if all(math.dist(at, p.center) > p.radius + 2 * R for p in table.pockets):
+            found.append(at)
+    return found

@@ -1,0 +1,63 @@
+"""The bot's strengths: each level is an execution noise and a search budget.
+
+`hand` is the level's own execution noise (a factor of the tournament noise, rules.bot.noise)
+that the bot applies to every shot it sends: a beginner's hand shakes, the strongest level's
+does not. The search budget is counted in simulations, never in seconds, so that a decision
+is a function of the position, the level and the seed alone (see rules.bot.search):
+
+- pots: how many of the likeliest straight pots are varied in speed and spin;
+- screen: how many candidates are simulated once without noise to rank them (the pocket
+  games rarely have a hundred; three-cushion's fan of headings is spaced to fill it);
+- width, samples: how many of the best screened go on to `samples` noisy simulations each;
+- leaders, leader_samples: how many of those get `leader_samples` more, before the best
+  mean decides;
+- cap: a wall-clock safety limit (s). A search that reaches it stops between stages and plays
+  the best shot found so far; that decision, unlike all others, depends on the machine's speed
+  (the search reports it). With the budgets below it is not reached on today's engine.
+
+The sample counts are set for the engine's present speed (pure Python: about a millisecond a
+plain shot); a faster engine should buy more samples here, in this one table.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True, slots=True)
+class Level:
+    number: int
+    hand: float
+    pots: int
+    screen: int
+    width: int
+    samples: int
+    leaders: int
+    leader_samples: int
+    cap: float = 60.0
+
+    @property
+    def budget(self) -> int:
+        """The most simulations one decision may run: a throw correction and a screening run
+        for each screened candidate, then the noisy samples."""
+        return 2 * self.screen + self.width * self.samples + self.leaders * self.leader_samples
+
+
+#: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples.
+TABLE = (
+    (1, 6.0, 2, 12, 3, 2, 0, 0),
+    (2, 4.0, 3, 40, 6, 3, 2, 6),
+    (3, 2.5, 4, 100, 8, 5, 3, 10),
+    (4, 1.2, 5, 200, 12, 6, 4, 16),
+    (5, 0.0, 6, 400, 16, 10, 5, 32),
+)
+LEVELS: tuple[Level, ...] = tuple(Level(*row) for row in TABLE)
+STRONGEST = LEVELS[-1]
+
+
+def level(number: int) -> Level:
+    """The level numbered `number` (1 = beginner ... len(LEVELS) = the strongest)."""
+    for lv in LEVELS:
+        if lv.number == number:
+            return lv
+    raise ValueError(f"no bot level {number} (levels: 1 to {len(LEVELS)})")
