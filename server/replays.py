@@ -75,6 +75,13 @@ def rack_replay(
     return view, best
 
 
+def record_refused(error: refereeing.RuleError) -> ServiceError:
+    """The refusal of a record that does not replay (an illegal input, another engine)."""
+    return ServiceError(
+        ErrorCode.ILLEGAL_INPUT, f"the record does not replay: {error}", refereeing.rule_code(error)
+    )
+
+
 def shots_json(replay_id: str, record: GameRecord) -> bytes:
     """The `ReplayShots` JSON of a replay (run in a worker process, which also encodes it)."""
     shots = [
@@ -112,11 +119,7 @@ class ReplayShotsCache:
         try:
             answer = await self._pool.replay_shots(replay_id, record)
         except refereeing.RuleError as error:
-            raise ServiceError(
-                ErrorCode.ILLEGAL_INPUT,
-                f"the record does not replay on this server: {error}",
-                refereeing.rule_code(error),
-            ) from None
+            raise record_refused(error) from None
         finally:
             del self._running[replay_id]
         self._keep(replay_id, answer)
