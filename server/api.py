@@ -41,6 +41,7 @@ from server.api_models import (
     QuickRequest,
     QuickStatus,
     RatingView,
+    ReplayShots,
     ReplayView,
     Status,
     TableCreate,
@@ -352,6 +353,11 @@ async def get_replay(request: web.Request) -> web.Response:
     return answer(replay)
 
 
+async def replay_shots(request: web.Request) -> web.Response:
+    shots = await service_of(request).replay_shots.shots(request.match_info["replay"])
+    return web.Response(body=shots, content_type=JSON)
+
+
 async def leaderboard(request: web.Request) -> web.Response:
     return answer(await service_of(request).breaks.top(request.match_info["game"]))
 
@@ -424,6 +430,9 @@ ROUTES: tuple[Route, ...] = (
           QuickMessageRequest, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
     Route("GET", "/api/replays/{replay:[0-9a-f]{24}}", get_replay, "A rack's replay",
           {200: ReplayView}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
+    Route("GET", "/api/replays/{replay:[0-9a-f]{24}}/shots", replay_shots,
+          "Every input of a replay with its outcome and motion", {200: ReplayShots}, auth=False,
+          refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED, ErrorCode.ILLEGAL_INPUT)),
     Route("GET", f"/api/leaderboard/{GAME}", leaderboard, "A game's highest breaks",
           {200: Leaderboard}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", f"/api/leaderboard/{GAME}/players/{NAME}", best_break,

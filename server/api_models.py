@@ -285,6 +285,31 @@ class ReplayView(BaseModel):
     created: float
 
 
+class ReplayShot(BaseModel):
+    """One input of a replay played again: `input`, `decision`, `trajectory` and `state` as the
+    outcome message carries them."""
+
+    model_config = _ANSWER
+
+    player: Seat = Field(
+        description="the record's player who played it (its seat, but in practice one person"
+        " plays both)"
+    )
+    input: PlayerInput
+    decision: Decision | None
+    trajectory: Trajectory | None
+    state: State
+
+
+class ReplayShots(BaseModel):
+    """Every input of a replay with its outcome, computed by replaying the record."""
+
+    model_config = _ANSWER
+
+    id: ReplayId
+    shots: list[ReplayShot] = Field(description="one per input of the record, in order")
+
+
 class BreakEntry(BaseModel):
     """One break on the leaderboard."""
 

@@ -37,7 +37,7 @@ from server.api_models import (
 from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
 from server.refereeing import Decision, PlayerInput, State
-from server.replays import new_replay_id, rack_replay, replay_url
+from server.replays import new_replay_id, rack_replay, record_refused, replay_url
 from server.storage import Storage
 from server.tables import TableRecord
 from server.workers import WorkerPool
@@ -109,11 +109,7 @@ class Breaks:
         try:
             verified = await self._pool.verify(record_json.encode())
         except refereeing.RuleError as error:
-            raise ServiceError(
-                ErrorCode.ILLEGAL_INPUT,
-                f"the record does not replay: {error}",
-                refereeing.rule_code(error),
-            ) from None
+            raise record_refused(error) from None
         except (ValueError, ValidationError) as error:
             raise ServiceError(ErrorCode.BAD_REQUEST, f"unreadable record: {error}") from None
         finally:

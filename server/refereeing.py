@@ -40,6 +40,7 @@ __all__ = [
     "PlayerInput",
     "Refereed",
     "Region",
+    "Replayed",
     "RuleError",
     "Shot",
     "State",
@@ -49,6 +50,7 @@ __all__ = [
     "constraints",
     "new_rack",
     "referee",
+    "replay_record",
     "rule_code",
     "timeout_input",
     "verify",
@@ -194,6 +196,40 @@ def verify(record_json: bytes) -> Verified:
     decisions = [step.decision for step in played.steps]
     best = best_visits(record.setup.game, decisions, played.final)
     return Verified(game=record.setup.game, best=best, inputs=len(record.inputs))
+
+
+@dataclass(frozen=True, slots=True)
+class Replayed:
+    """One input of a replayed record: the player who played it, the input, and its result."""
+
+    player: int
+    action: PlayerInput
+    refereed: Refereed
+
+
+def replay_record(record: GameRecord) -> list[Replayed]:
+    """Every input of a record played again with its motion (run in a worker process).
+
+    The record is replayed and checked as a claim is (`rules.record.replay`), through an engine
+    that keeps each shot it simulates: the rules simulate once per shot and never for a
+    choice, so the kept shots pair with the record's shots in order. Raises RuleError (and the
+    engine's errors) for a record that does not replay.
+    """
+    shots: list[physics.Shot] = []
+
+    def simulate(scene: physics.Scene) -> physics.Shot:
+        shots.append(physics.simulate(scene))
+        return shots[-1]
+
+    played = replay(record, simulate)
+    motions = iter(shots)
+    replayed, before = [], played.start
+    for step in played.steps:
+        trajectory = wire_trajectory(next(motions)) if isinstance(step.action, Shot) else None
+        result = Refereed(state=step.state, decision=step.decision, trajectory=trajectory)
+        replayed.append(Replayed(player=before.turn, action=step.action, refereed=result))
+        before = step.state
+    return replayed
 
 
 def bot_input(state: State, bot: str) -> PlayerInput:

@@ -4,17 +4,43 @@ A replay is the rack's game record (setup and inputs, `rules.record.GameRecord`)
 96 random bits, so a private table's racks cannot be found by guessing; `/replay/{id}` is its
 page in the web client and `GET /api/replays/{id}` its JSON. The record's players are the
 table's seats and its setup names the rack's breaker, so it replays exactly as it was played.
+
+The browser runs no physics, so `GET /api/replays/{id}/shots` answers every input's outcome
+(`ReplayShots`), computed by replaying the record in the worker pool. Its guarantees:
+
+1. The shots are the record's replay: one per input, in order, each state the one the rules
+   reach (`rules.record.replay`, which checks every digest), in the outcome message's form.
+2. No replay is computed on the event loop, and at most `MAX_REPLAYING` replays at once per
+   process; a request for another one past that is refused (429 `rate_limited`), while one
+   for a replay being computed waits for that computation.
+3. Answers are kept in a least-recently-used cache of at most `CACHE_BYTES` bytes per process
+   (a replay never changes, so an answer never goes stale); a larger answer is not kept.
 """
 
 from __future__ import annotations
 
+import asyncio
 import secrets
 import time
+from collections import OrderedDict
+from typing import TYPE_CHECKING
 
 from server import refereeing
-from server.api_models import ReplayView
+from server.api_models import ReplayShot, ReplayShots, ReplayView
+from server.errors import ErrorCode, ServiceError
 from server.refereeing import Decision, GameRecord, State
+from server.storage import Storage
 from server.tables import TableRecord
+
+if TYPE_CHECKING:
+    from server.workers import WorkerPool
+
+#: Replays computed at once per process (a long frame keeps a worker busy for seconds), so that
+#: replays cannot starve the matches of workers.
+MAX_REPLAYING = 1
+#: Bytes of answers kept per process (a nine-ball rack's is some 100 KB, a snooker frame's a
+#: few MB).
+CACHE_BYTES = 32 * 1024 * 1024
 
 
 def new_replay_id() -> str:
@@ -47,3 +73,72 @@ def rack_replay(
         created=time.time(),
     )
     return view, best
+
+
+def record_refused(error: refereeing.RuleError) -> ServiceError:
+    """The refusal of a record that does not replay (an illegal input, another engine)."""
+    return ServiceError(
+        ErrorCode.ILLEGAL_INPUT, f"the record does not replay: {error}", refereeing.rule_code(error)
+    )
+
+
+def shots_json(replay_id: str, record: GameRecord) -> bytes:
+    """The `ReplayShots` JSON of a replay (run in a worker process, which also encodes it)."""
+    shots = [
+        ReplayShot(
+            player=played.player,
+            input=played.action,
+            decision=played.refereed.decision,
+            trajectory=played.refereed.trajectory,
+            state=played.refereed.state,
+        )
+        for played in refereeing.replay_record(record)
+    ]
+    return ReplayShots(id=replay_id, shots=shots).model_dump_json().encode()
+
+
+class ReplayShotsCache:
+    """`await cache.shots(replay_id)`: the replay's `ReplayShots` JSON (see the guarantees
+    above); ServiceError for an unknown replay, a busy process or a record that does not
+    replay."""
+
+    def __init__(self, storage: Storage, pool: WorkerPool) -> None:
+        self._storage = storage
+        self._pool = pool
+        self._kept: OrderedDict[str, bytes] = OrderedDict()
+        self._running: dict[str, asyncio.Task[bytes]] = {}
+
+    def _keep(self, replay_id: str, answer: bytes) -> None:
+        if len(answer) > CACHE_BYTES:
+            return
+        self._kept[replay_id] = answer
+        while sum(map(len, self._kept.values())) > CACHE_BYTES:
+            self._kept.popitem(last=False)
+
+    async def _compute(self, replay_id: str, record: GameRecord) -> bytes:
+        try:
+            answer = await self._pool.replay_shots(replay_id, record)
+        except refereeing.RuleError as error:
+            raise record_refused(error) from None
+        finally:
+            del self._running[replay_id]
+        self._keep(replay_id, answer)
+        return answer
+
+    async def shots(self, replay_id: str) -> bytes:
+        if replay_id not in self._running:
+            if (kept := self._kept.get(replay_id)) is not None:
+                self._kept.move_to_end(replay_id)
+                return kept
+            replay = await self._storage.get_replay(replay_id)
+            if replay is None:
+                raise ServiceError(ErrorCode.NOT_FOUND, "no such replay")
+            if replay_id not in self._running:  # still: no other request started it meanwhile
+                if (kept := self._kept.get(replay_id)) is not None:
+                    return kept
+                if len(self._running) >= MAX_REPLAYING:
+                    raise ServiceError(ErrorCode.RATE_LIMITED, "replays are being computed")
+                task = asyncio.ensure_future(self._compute(replay_id, replay.record))
+                self._running[replay_id] = task
+        # Shielded: a client that goes away does not cancel the others' computation.
+        return await asyncio.shield(self._running[replay_id])

@@ -22,6 +22,7 @@ from server.lobby import Lobby
 from server.match import MatchContext, Matches, new_replica_id
 from server.relay.limits import RateLimiter
 from server.relay.relay import Relay
+from server.replays import ReplayShotsCache
 from server.storage import Storage
 from server.workers import WorkerPool, default_workers
 
@@ -47,6 +48,7 @@ class Service:
     breaks: Breaks
     lobby: Lobby
     matches: Matches
+    replay_shots: ReplayShotsCache
     #: The presence each table last announced from this process (to announce changes once).
     presence: dict[str, PresenceMessage] = field(default_factory=dict)
     #: Token buckets for what a client can make the server store or send (see LIMITS).
@@ -90,6 +92,7 @@ async def running_service(
         breaks=breaks,
         lobby=lobby,
         matches=Matches(context),
+        replay_shots=ReplayShotsCache(storage, pool),
     )
     try:
         async with lobby.running(), running_clock(storage, service.matches):

@@ -17,8 +17,8 @@ from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from typing import TypeVar
 
-from server import refereeing
-from server.refereeing import PlayerInput, State
+from server import refereeing, replays
+from server.refereeing import GameRecord, PlayerInput, State
 
 T = TypeVar("T")
 
@@ -30,12 +30,12 @@ def default_workers() -> int:
 
 def _context() -> multiprocessing.context.BaseContext:
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(["server.refereeing"])
+    context.set_forkserver_preload(["server.refereeing", "server.replays"])
     return context
 
 
 class WorkerPool:
-    """`await pool.referee(state, action)` and `await pool.bot_input(state)`, in processes."""
+    """`await pool.referee(state, action)`, `await pool.bot_input(state)`, ..., in processes."""
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
@@ -61,6 +61,9 @@ class WorkerPool:
 
     async def verify(self, record_json: bytes) -> refereeing.Verified:
         return await self._run(refereeing.verify, record_json)
+
+    async def replay_shots(self, replay_id: str, record: GameRecord) -> bytes:
+        return await self._run(replays.shots_json, replay_id, record)
 
     def close(self) -> None:
         self._executor.shutdown(wait=True, cancel_futures=True)

@@ -1,5 +1,6 @@
-"""The leaderboard: a claimed break is checked by the server and listed; a practice rack's break
-enters by itself, and its replay link plays the rack to the positions it ended in."""
+"""The leaderboard: a claimed break is checked by the server, listed, and its replay plays to
+the record's final positions; a practice rack's break enters by itself, and its replay link
+plays the rack to the positions it ended in."""
 
 from __future__ import annotations
 
@@ -45,6 +46,19 @@ def test_a_claimed_break_is_checked_and_listed(open_page, console):
     row = page.locator("#board tbody tr", has_text=name)
     assert row.count() == 1 and str(best) in row.inner_text()
     screenshot(page, "leaderboard")
+    # Its replay plays though it was played on no table: the server replays the record.
+    row.get_by_role("link", name="Watch").click()
+    page.wait_for_url("**/replay/*")
+    page.select_option("#speed", "4")
+    shots = sum("strike" in action for action in json.loads(record)["inputs"])
+    page.wait_for_function("(n) => window.billiards.shots === n", arg=shots, timeout=60_000)
+    page.locator("#shots li a").last.click()  # straight to the last shot
+    page.wait_for_function("(n) => window.billiards.shown === n - 1", arg=shots, timeout=60_000)
+    final = replay(GameRecord.model_validate_json(record)).final
+    drawn = drawn_balls(page)
+    assert drawn.keys() == final.balls.keys()
+    for ball, p in drawn.items():
+        assert math.dist(p, final.balls[ball]) < 1e-6, ball
 
 
 def get_json(url: str) -> dict:

@@ -20,7 +20,7 @@ from tests.service.conftest import Player, register, watch
 def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
     """The shot pickers' input for a published state (a client choosing its shot)."""
     state = from_json(refereeing.State, view_or_outcome["state"])
-    return refereeing.bot_input(state).model_dump(mode="json")
+    return refereeing.bot_input(state, "picker").model_dump(mode="json")
 
 
 async def abandon_input(storage: Storage, view: dict[str, Any], shot_id: str) -> None:

@@ -17,7 +17,7 @@ async def test_a_dead_worker_is_replaced_and_the_next_shot_is_played() -> None:
     pool = WorkerPool(1)
     try:
         state = refereeing.new_rack("nineball", 4, 0)
-        action = refereeing.bot_input(state)
+        action = refereeing.bot_input(state, "picker")
         first = await pool.referee(state, action)
         with pytest.raises(BrokenProcessPool):
             await pool._run(os._exit, 1)  # the worker dies mid-call (twice: call and retry)

@@ -1,11 +1,10 @@
 // /replay/{id}: shots played again, with pause, step, speed and a share link that opens at a
-// given shot (`?shot=N`). The browser runs no physics, so it animates the outcomes the server
-// published on the table's channel (which the relay keeps: its last 100 messages, for an hour):
-// - a rack's replay (24 hex digits, GET /api/replays/{id}): the outcomes of that rack, the last
-//   of which names the replay; a replay whose outcomes the relay no longer holds (or a claimed
-//   break, played on no table) can be listed but not animated;
-// - a table (20 hex digits): its shots so far, and each new one as it is played.
-import { get } from "../net/api.js";
+// given shot (`?shot=N`). The browser runs no physics:
+// - a rack's replay (24 hex digits): GET /api/replays/{id}/shots, every input's outcome, which
+//   the server computes by replaying the record (so claimed breaks and old racks play too);
+// - a table (20 hex digits): the outcomes published on its channel (its shots so far, from the
+//   relay's buffer, and each new one as it is played).
+import { ApiError, get } from "../net/api.js";
 import { Subscription } from "../net/relay.js";
 import { decisionWords, playerName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
@@ -49,11 +48,12 @@ class ReplayPage {
     this.say("Waiting for the table's shots...");
   }
 
-  /** Add shots (outcomes with a trajectory) in the order played. */
-  add(messages) {
-    for (const message of messages) {
-      if (!message.trajectory || this.shots.some((s) => s.version === message.version)) continue;
-      this.shots.push(message);
+  /** Add shots in the order played: {key, seat, input, decision, trajectory, rest} (`rest`:
+   * where the balls stand when the shot is over); choices (no trajectory) are left out. */
+  add(shots) {
+    for (const shot of shots) {
+      if (!shot.trajectory || this.shots.some((s) => s.key === shot.key)) continue;
+      this.shots.push(shot);
       diagnostics.shots = this.shots.length;
       this.listShot(this.shots.length - 1);
     }
@@ -97,9 +97,7 @@ class ReplayPage {
   finished(i) {
     const shot = this.shots[i];
     this.animation = null;
-    // After a rack's last shot the state is already the next rack's: show where the balls
-    // came to rest instead.
-    this.view3d.setBalls(shot.decision?.over ? endPositions(shot.trajectory) : shot.state.balls);
+    this.view3d.setBalls(shot.rest);
     this.say(`Shot ${i + 1} of ${this.shots.length}: ${decisionWords(this.view, shot.decision)}`);
     diagnostics.shown = i;
     if (this.playing && i + 1 < this.shots.length) setTimeout(() => this.current === i && !this.animation && this.show(i + 1), 600 / this.speed);
@@ -137,55 +135,45 @@ class ReplayPage {
   }
 }
 
-/** A rack's outcomes: the `count` outcomes that end with the one naming `replayId`. */
-function rackOutcomes(messages, replayId, count) {
-  const outcomes = messages.filter((m) => m.kind === "outcome").sort((a, b) => a.version - b.version);
-  const end = outcomes.findIndex((m) => m.replay === replayId);
-  return end < 0 ? null : outcomes.slice(Math.max(0, end - count + 1), end + 1);
-}
+/** How long to wait before asking again while the server computes another replay. */
+const BUSY_RETRY_MS = 1000;
 
-/** How long to wait for the relay's buffered messages before saying a rack is not there. */
-const BUFFER_WAIT_MS = 4000;
+/** GET /api/replays/{id}/shots, asking again while the server is busy (429). */
+async function replayShots(id) {
+  for (;;) {
+    try {
+      return await get(`/api/replays/${id}/shots`);
+    } catch (e) {
+      if (!(e instanceof ApiError) || e.code !== "rate_limited") throw e;
+      await new Promise((resolve) => setTimeout(resolve, BUSY_RETRY_MS));
+    }
+  }
+}
 
 async function openRack(id, tables) {
   const replay = await get(`/api/replays/${id}`);
   const table = replay.table ? await get(`/api/tables/${replay.table}`) : null;
-  // Outcomes name table seats (the record's players are the breaker first).
-  const seats = table?.seats ?? replay.players;
-  const view = { game: replay.game, mode: table?.mode ?? "match", seats };
+  const view = { game: replay.game, mode: table?.mode ?? "match", seats: replay.players };
   const page = new ReplayPage(id, view, tables[replay.game]);
   page.say(`Rack ${replay.rack} of ${replay.game}: loading its shots...`);
-  if (!table) {
-    page.say("This break was claimed from a record: its shots were played on no table, so there is nothing to animate.");
-    return page;
-  }
-  const seen = [];
-  let found = false;
-  const subscription = new Subscription(table.channel, {
-    onMessage: (m) => {
-      if (found) return;
-      seen.push(m);
-      const shots = rackOutcomes(seen, id, replay.record.inputs.length);
-      if (shots) {
-        found = true;
-        subscription.close();
-        page.add(shots);
-      }
-    },
-  });
-  setTimeout(() => {
-    if (found) return;
-    subscription.close();
-    page.say("The shots of this rack are no longer kept on its table's channel.");
-  }, BUFFER_WAIT_MS);
+  const { shots } = await replayShots(id);
+  // The replay's states are the rack's own, its last one where the rack ended.
+  page.add(shots.map((s, i) => ({ key: i, seat: s.player, input: s.input, decision: s.decision, trajectory: s.trajectory, rest: s.state.balls })));
   return page;
+}
+
+/** A table's outcome as a shot: after a rack's last shot the state is already the next
+ * rack's, so it rests where the balls came to rest. */
+function outcomeShot(m) {
+  const rest = m.decision?.over ? endPositions(m.trajectory) : m.state.balls;
+  return { key: m.version, seat: m.seat, input: m.input, decision: m.decision, trajectory: m.trajectory, rest };
 }
 
 async function openTable(id, tables) {
   const view = await get(`/api/tables/${id}`);
   const page = new ReplayPage(id, view, tables[view.game]);
   page.view3d.setBalls(view.state.balls);
-  new Subscription(view.channel, { onMessage: (m) => m.kind === "outcome" && page.add([m]) });
+  new Subscription(view.channel, { onMessage: (m) => m.kind === "outcome" && m.trajectory && page.add([outcomeShot(m)]) });
   return page;
 }
 

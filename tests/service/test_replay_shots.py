@@ -1,0 +1,133 @@
+"""A replay's shots: every input's outcome, replayed from the record in the worker pool."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+from typing import Any
+
+import pytest
+from aiohttp.test_utils import TestClient
+
+from rules.record import GameRecord, replay
+from server import replays
+from server.api_models import ReplayView
+from server.errors import ErrorCode, ServiceError
+from server.replays import ReplayShotsCache, shots_json
+from server.storage import Storage
+from tests.service.conftest import register, watch
+from tests.service.test_leaderboard import _record
+from tests.service.test_match import picked
+
+
+async def _shots(server: TestClient, replay_id: str) -> list[dict[str, Any]]:
+    response = await server.get(f"/api/replays/{replay_id}/shots")
+    body = await response.json()
+    assert response.status == 200, body
+    assert body["id"] == replay_id
+    return body["shots"]
+
+
+def _final_state(record: dict[str, Any]) -> dict[str, Any]:
+    return replay(GameRecord.model_validate(record)).final.model_dump(mode="json")
+
+
+async def test_a_practice_racks_shots_are_its_live_outcomes(server: TestClient) -> None:
+    ada = await register(server, "Ada")
+    view = await ada.create("nineball", mode="practice")
+    watcher = await watch(server, view["channel"])
+    current, outcomes = view, []
+    while current.get("replay") is None:
+        status, _ = await ada.shoot(view["id"], current["version"], picked(current))
+        assert status == 202
+        current = await watcher.next_kind("outcome")
+        outcomes.append(current)
+    saved = await (await server.get(f"/api/replays/{current['replay']}")).json()
+    shots = await _shots(server, current["replay"])
+    assert [shot["input"] for shot in shots] == saved["record"]["inputs"]
+    assert shots[-1]["state"] == _final_state(saved["record"])
+    for shot, outcome in zip(shots, outcomes, strict=True):
+        # The same wire form as the live outcome (whose last state is the next rack's).
+        for part in ("input", "decision", "trajectory"):
+            assert shot[part] == outcome[part], part
+        if shot["decision"] is not None:
+            assert shot["player"] == shot["decision"]["player"]
+    for shot, outcome in zip(shots[:-1], outcomes[:-1], strict=True):
+        assert shot["state"] == outcome["state"]
+    assert await _shots(server, current["replay"]) == shots  # from the cache, the same
+
+
+async def test_a_claimed_breaks_shots_replay_its_record(server: TestClient) -> None:
+    record, best = next((r, b) for r, b in map(_record, range(1, 20)) if b > 1)
+    claim = {"game": "nineball", "record": record, "name": "Cy", "score": best}
+    response = await server.post("/api/leaderboard/claims", json=claim)
+    verdict = await response.json()
+    assert response.status == 201, verdict
+    shots = await _shots(server, verdict["replay"]["id"])
+    assert [shot["input"] for shot in shots] == verdict["replay"]["record"]["inputs"]
+    assert shots[-1]["state"] == _final_state(record)
+    for shot in shots:
+        assert (shot["trajectory"] is None) == ("strike" not in shot["input"])
+    missing = await server.get("/api/replays/" + "0" * 24 + "/shots")
+    assert (missing.status, (await missing.json())["code"]) == (404, "not_found")
+
+
+class HeldPool:
+    """A stand-in for the worker pool whose replays finish when the test lets them."""
+
+    def __init__(self) -> None:
+        self.release = asyncio.Event()
+        self.calls: list[str] = []
+
+    async def replay_shots(self, replay_id: str, record: GameRecord) -> bytes:
+        self.calls.append(replay_id)
+        await self.release.wait()
+        return shots_json(replay_id, record)
+
+
+def _replay_view(replay_id: str, record: dict[str, Any]) -> ReplayView:
+    return ReplayView(
+        id=replay_id,
+        url=replays.replay_url(replay_id),
+        table=None,
+        rack=1,
+        game="nineball",
+        players=[None, None],
+        best=(0, 0),
+        record=GameRecord.model_validate(record),
+        created=0.0,
+    )
+
+
+async def test_replays_are_computed_one_at_a_time_and_kept(storage: Storage) -> None:
+    record, _ = _record(2)
+    first, second = "a" * 24, "b" * 24
+    for replay_id in (first, second):
+        await storage.add_replay(_replay_view(replay_id, record))
+    pool = HeldPool()
+    cache = ReplayShotsCache(storage, pool)  # type: ignore[arg-type]
+    running = asyncio.ensure_future(cache.shots(first))
+    while not pool.calls:
+        await asyncio.sleep(0)
+    same = asyncio.ensure_future(cache.shots(first))  # waits for the same computation
+    with pytest.raises(ServiceError) as refused:
+        await cache.shots(second)
+    assert refused.value.code is ErrorCode.RATE_LIMITED
+    pool.release.set()
+    answer = await running
+    assert await same == answer and pool.calls == [first]
+    assert await cache.shots(first) == answer and pool.calls == [first]  # kept
+    assert len(json.loads(answer)["shots"]) == len(record["inputs"])
+    await cache.shots(second)
+    assert pool.calls == [first, second]
+
+
+async def test_a_record_that_does_not_replay_is_refused(storage: Storage) -> None:
+    record, _ = _record(2)
+    record["engine"] = "0"  # stored by an older server
+    await storage.add_replay(_replay_view("c" * 24, record))
+    pool = HeldPool()
+    pool.release.set()
+    with pytest.raises(ServiceError) as refused:
+        await ReplayShotsCache(storage, pool).shots("c" * 24)  # type: ignore[arg-type]
+    assert (refused.value.code, refused.value.rule) == (ErrorCode.ILLEGAL_INPUT, "engine_version")
