@@ -97,7 +97,7 @@ async def play_table(players: list[GameClient], view: TableView, samples: Sample
     while current.status is Status.PLAYING and time.perf_counter() < stop:
         shooter = by_id[current.next.player]
         await pace.wait()
-        action = refereeing.bot_input(current.state).model_dump(mode="json")
+        action = refereeing.bot_input(current.state, "picker").model_dump(mode="json")
         try:
             ack = await shooter.send(view.id, current.version, action)
         except Refused:
