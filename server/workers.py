@@ -35,7 +35,8 @@ def _context() -> multiprocessing.context.BaseContext:
 
 
 class WorkerPool:
-    """`await pool.referee(state, action)`, `await pool.bot_input(state, bot)`, ..., in processes."""
+    """`await pool.referee(state, action)`, `await pool.bot_input(state, bot)`, ...: in
+    processes."""
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
