@@ -35,8 +35,8 @@ def _context() -> multiprocessing.context.BaseContext:
 
 
 class WorkerPool:
-    """`await pool.referee(state, action)`, `await pool.bot_input(state, bot)`, ...: in
-    processes."""
+    """The rules' work in worker processes: `await pool.referee(state, action)`,
+    `await pool.bot_input(state, bot)`, and the rest below."""
 
     def __init__(self, workers: int) -> None:
         self.workers = workers
