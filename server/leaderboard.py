@@ -108,7 +108,7 @@ class Breaks:
         self._verifying += 1
         try:
             verified = await self._pool.verify(record_json.encode())
-        except refereeing.RuleError as error:
+        except refereeing.NOT_REPLAYED as error:
             raise record_refused(error) from None
         except (ValueError, ValidationError) as error:
             raise ServiceError(ErrorCode.BAD_REQUEST, f"unreadable record: {error}") from None

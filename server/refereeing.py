@@ -33,6 +33,7 @@ BOT_SEED = 0
 TIMEOUT_SPEED = 0.05
 
 __all__ = [
+    "NOT_REPLAYED",
     "Choice",
     "Decision",
     "GameName",
@@ -183,6 +184,11 @@ class Verified:
     game: GameName
     best: tuple[int, int]
     inputs: int
+
+
+#: What replaying a record raises when it does not replay: a refused or differing input
+#: (RuleError), or an engine that refuses or abandons one of its shots.
+NOT_REPLAYED = (RuleError, physics.SceneError, physics.SimulationError)
 
 
 def verify(record_json: bytes) -> Verified:

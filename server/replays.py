@@ -75,11 +75,11 @@ def rack_replay(
     return view, best
 
 
-def record_refused(error: refereeing.RuleError) -> ServiceError:
-    """The refusal of a record that does not replay (an illegal input, another engine)."""
-    return ServiceError(
-        ErrorCode.ILLEGAL_INPUT, f"the record does not replay: {error}", refereeing.rule_code(error)
-    )
+def record_refused(error: Exception) -> ServiceError:
+    """The refusal of a record that does not replay (`refereeing.NOT_REPLAYED`: an illegal or
+    differing input, another engine version, a shot the engine refuses or abandons)."""
+    rule = refereeing.rule_code(error) if isinstance(error, refereeing.RuleError) else None
+    return ServiceError(ErrorCode.ILLEGAL_INPUT, f"the record does not replay: {error}", rule)
 
 
 def shots_json(replay_id: str, record: GameRecord) -> bytes:
@@ -118,7 +118,7 @@ class ReplayShotsCache:
     async def _compute(self, replay_id: str, record: GameRecord) -> bytes:
         try:
             answer = await self._pool.replay_shots(replay_id, record)
-        except refereeing.RuleError as error:
+        except refereeing.NOT_REPLAYED as error:
             raise record_refused(error) from None
         finally:
             del self._running[replay_id]

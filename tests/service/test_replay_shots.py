@@ -9,6 +9,7 @@ from typing import Any
 import pytest
 from aiohttp.test_utils import TestClient
 
+import physics
 from rules.record import GameRecord, replay
 from server import replays
 from server.api_models import ReplayView
@@ -131,3 +132,20 @@ async def test_a_record_that_does_not_replay_is_refused(storage: Storage) -> Non
     with pytest.raises(ServiceError) as refused:
         await ReplayShotsCache(storage, pool).shots("c" * 24)  # type: ignore[arg-type]
     assert (refused.value.code, refused.value.rule) == (ErrorCode.ILLEGAL_INPUT, "engine_version")
+
+
+class AbandoningPool:
+    """A stand-in for the worker pool whose engine abandons the record's first shot."""
+
+    async def replay_shots(self, replay_id: str, record: GameRecord) -> bytes:
+        raise physics.BudgetExceeded("input #1: the shot went past the engine's budget")
+
+
+async def test_a_record_whose_shot_the_engine_abandons_is_refused_not_a_500(
+    storage: Storage,
+) -> None:
+    record, _ = _record(2)
+    await storage.add_replay(_replay_view("d" * 24, record))
+    with pytest.raises(ServiceError) as refused:
+        await ReplayShotsCache(storage, AbandoningPool()).shots("d" * 24)  # type: ignore[arg-type]
+    assert refused.value.code is ErrorCode.ILLEGAL_INPUT and "input #1" in refused.value.reason
