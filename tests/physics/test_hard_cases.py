@@ -304,3 +304,23 @@ def test_a_crawl_below_the_rest_speed_leaves_the_ball_where_it_is(spin):
     assert shot.final["a"].pos == (1.0, 1.0)
     assert all(seg.v == (0.0, 0.0) for seg in shot.trajectories["a"])
     assert_sane(shot)
+
+
+#: Issue 9's wedge: a ball flush with the left rail of the nine-ball table, touching another.
+WEDGED = {"b0": [R, 1.0], "b1": [0.08344873188206842, 0.9840314042779313]}
+
+
+@pytest.mark.parametrize("w", [[1.0, 0.0, 0.0], [1.0, 0.0, -2.0]])
+@pytest.mark.parametrize("e_c", [POOL.e_c, 0.0])
+def test_a_ball_wedged_by_its_spin_settles_at_once(w, e_c):
+    """A stationary ball whose spin drives it into a cushion and a neighbour at once. Resolved
+    one contact at a time it bounced between them with ever-tinier steps: 498 events, with
+    side spin past the budget (2,000 events), with a dead cushion 2.6e-9 m past the cushion
+    line. Settled jointly, it rolls off along the rail pushing the neighbour away."""
+    shot = run(WEDGED, initial={"b0": {"v": [0.0, 0.0], "w": w}}, params={"e_c": e_c})
+    assert len(shot.events) < 10
+    assert_sane(shot)
+    nearest = min(shot.position("b0", e.t)[0] for e in shot.events)
+    assert min(nearest, shot.final["b0"].pos[0]) >= R - 2e-10  # one REST_DEPTH at most
+    assert shot.final["b0"].pos[1] < 1.0 - 1e-6  # it moved down the rail, as the spin drives it
+    assert math.dist(shot.final["b1"].pos, WEDGED["b1"]) > 1e-6  # and pushed the neighbour
