@@ -61,7 +61,7 @@ cdef class Simulation:
     cdef tuple _cluster(self, tuple seeds, tuple first)
     cdef _take(self, Py_ssize_t i, list pos, list v, list w)
     cdef _touching(self, Py_ssize_t k, list members, list pos, list v, list w, list contacts)
-    cdef tuple _add_fixed(self, Py_ssize_t k, nx, ny, vx, vy, list fixed, list contacts)
+    cdef _add_fixed(self, Py_ssize_t k, nx, ny, vx, vy, list fixed, list contacts)
     cdef tuple _project(self, list v, list w, list contacts)
     cdef list _pressed_slides(self, list v, list w, list contacts)
     cdef _spare(self, list v, list w, list contacts)

@@ -438,13 +438,12 @@ class Simulation:
         for _, px, py, nx, ny, tx, ty in self.rails:
             gap = (x - px) * nx + (y - py) * ny - R
             s = ((x - px) * tx + (y - py) * ty) / (tx * tx + ty * ty)
-            if gap <= CLUSTER_GAP and 0.0 <= s <= 1.0:
-                fixed.append(self._add_fixed(k, -nx, -ny, vx, vy, fixed, contacts))
+            if abs(gap) <= CLUSTER_GAP and 0.0 <= s <= 1.0:
+                self._add_fixed(k, -nx, -ny, vx, vy, fixed, contacts)
         for kind, _, cx, cy, radius in self.circles:
             d = math.hypot(x - cx, y - cy)
-            if kind == "jaw" and d - radius <= CLUSTER_GAP:
-                n = ((cx - x) / d, (cy - y) / d)
-                fixed.append(self._add_fixed(k, n[0], n[1], vx, vy, fixed, contacts))
+            if kind == "jaw" and abs(d - radius) <= CLUSTER_GAP:
+                self._add_fixed(k, (cx - x) / d, (cy - y) / d, vx, vy, fixed, contacts)
         for i, other in enumerate(self.balls):
             if (
                 other.state == POCKETED
@@ -455,8 +454,10 @@ class Simulation:
             self.contacts_checked += 1
             xo, yo, vxo, vyo = other.at(self.now)
             d = math.hypot(xo - x, yo - y)
+            if d - 2.0 * R > CLUSTER_GAP:
+                continue
             n = ((xo - x) / d, (yo - y) / d)
-            if d - 2.0 * R > CLUSTER_GAP or (vx - vxo) * n[0] + (vy - vyo) * n[1] >= REST_SPEED:
+            if (vx - vxo) * n[0] + (vy - vyo) * n[1] >= REST_SPEED:
                 continue
             if i in members:
                 m = members.index(i)
@@ -472,11 +473,11 @@ class Simulation:
 
     def _add_fixed(self, k, nx, ny, vx, vy, fixed, contacts):
         """Add a resting contact of member k with a cushion or jaw (normal n into it), unless
-        it is one already there or full; returns n, so the caller's list of them grows."""
+        it is one already there (the normals in `fixed`, which n joins) or there is no room."""
         new = all(nx * fx + ny * fy < 1.0 - 1e-9 for fx, fy in fixed)
         if new and len(contacts) < CLUSTER_CONTACTS and vx * nx + vy * ny < REST_SPEED:
             contacts.append((k, -1, nx, ny))
-        return (nx, ny)
+        fixed.append((nx, ny))
 
     def _project(self, v, w, contacts):
         """The velocities after one perfectly inelastic impulse per contact, found jointly.
