@@ -505,12 +505,15 @@ class Simulation:
             return [(0.0, 0.0)] * len(v), [(0.0, 0.0, s[2]) for s in w]
         v = list(v)
         w = list(w)
+        pushed = []
         for (a, b, nx, ny), impulse in zip(contacts, lam, strict=True):
             if impulse:
                 v[a] = (v[a][0] - impulse * inv[a] * nx, v[a][1] - impulse * inv[a] * ny)
+                pushed.append(a)
                 if b >= 0:
                     v[b] = (v[b][0] + impulse * inv[b] * nx, v[b][1] + impulse * inv[b] * ny)
-        for k in range(len(v)):
+                    pushed.append(b)
+        for k in pushed:
             if inv[k] != 1.0:
                 w[k] = motion.rolling_spin(v[k], w[k][2], p.R)
         return v, w
