@@ -315,13 +315,16 @@ class Simulation:
         n = (dx / d, dy / d)
         va, wa, vb, wb = (bi.vx, bi.vy), bi.w, (bj.vx, bj.vy), bj.w
         vn = (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1]
-        if vn < REST_SPEED:
+        if vn < REST_SPEED or self.p.e_b * vn < REST_SPEED:
             changed = self._settle((i, j), (0, 1, n[0], n[1]))
             if changed is not None:
                 self._emit("ball_ball", (bi.name, bj.name))
                 self._predict(changed)
                 return
-            va, wa, vb, wb = self._rest(va, wa, vb, wb, n)
+            if vn < REST_SPEED:
+                va, wa, vb, wb = self._rest(va, wa, vb, wb, n)
+            else:
+                va, wa, vb, wb = self.ball_ball(va, wa, vb, wb, n, self.p)
         else:
             va, wa, vb, wb = self.ball_ball(va, wa, vb, wb, n, self.p)
         self._set_motion(bi, va, wa)

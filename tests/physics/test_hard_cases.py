@@ -324,3 +324,26 @@ def test_a_ball_wedged_by_its_spin_settles_at_once(w, e_c):
     assert min(nearest, shot.final["b0"].pos[0]) >= R - 2e-10  # one REST_DEPTH at most
     assert shot.final["b0"].pos[1] < 1.0 - 1e-6  # it moved down the rail, as the spin drives it
     assert math.dist(shot.final["b1"].pos, WEDGED["b1"]) > 1e-6  # and pushed the neighbour
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.3, 0.7, 1.2])
+@pytest.mark.parametrize("models", [{}, {"spin": False, "ball_ball": "frictionless"}])
+def test_a_dead_ball_driven_into_a_wedge_settles_at_once(angle, models):
+    """e_b = 0: a ball rolled into a neighbour that touches a ball flush with the rail. Dead
+    collisions one pair at a time passed the push down the chain and back with ever-tinier
+    steps (20-362 events); a collision too dead to part the pair is settled with the cluster."""
+    nx, ny = math.cos(angle), math.sin(angle)
+    wedged = [R + 2 * R * nx, 1.0 + 2 * R * ny]
+    start = [wedged[0] + 0.3, wedged[1] + 0.05]
+    dx, dy = wedged[0] - start[0], wedged[1] - start[1]
+    vx, vy = 2.0 * dx / math.hypot(dx, dy), 2.0 * dy / math.hypot(dx, dy)
+    shot = run(
+        {"b0": [R, 1.0], "b1": wedged, "c": start},
+        initial={"c": {"v": [vx, vy], "w": [-vy / R, vx / R, 0.0]}},
+        models=models,
+        params={"e_b": 0.0},
+    )
+    assert len(shot.events) < 20
+    assert_sane(shot)
+    on_table = [pos for pos in (shot.position("b0", e.t) for e in shot.events) if pos]
+    assert min(x for x, _ in on_table) >= R - 2e-10  # pushed along the rail, perhaps to a pocket
