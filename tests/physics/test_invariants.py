@@ -135,9 +135,11 @@ def wedges(draw):
 def test_a_wedged_ball_settles_in_a_few_events(scene):
     """Resolved one contact at a time, a ball pressed by its spin into a cushion and a
     neighbour at once bounced between the two with ever-tinier steps: up to a thousand events
-    or past the engine's budget. The cluster is settled jointly now (observed: at most 27)."""
+    or past the engine's budget. The cluster is settled jointly now: mostly 3-7 events, at
+    most about 60 where a sliding ball pushes its neighbour off along the cloth (a push of two
+    balls alone, still played one real collision after another)."""
     shot = simulate(scene)
-    assert len(shot.events) < 50
+    assert len(shot.events) < 100
     assert_invariants(scene, shot)
 
 
