@@ -12,6 +12,7 @@ from tests.e2e.conftest import (
     screenshot,
     strike_with_keys,
     unique_name,
+    wait_version,
 )
 
 #: Enough shots for both players to have had a turn (a player who pots goes on).
@@ -20,13 +21,6 @@ MAX_SHOTS = 8
 
 def view_of(page, server, table_id: str) -> dict:
     return page.request.get(f"{server.url}/api/tables/{table_id}").json()
-
-
-def wait_version(page, version: int) -> None:
-    """Until the page shows the table at `version` (any animation played to its end)."""
-    page.wait_for_function(
-        "(v) => (window.billiards?.version ?? -1) >= v", arg=version, timeout=90_000
-    )
 
 
 def assert_shows(page, view: dict) -> None:

@@ -6,6 +6,7 @@
 //   relay's buffer, and each new one as it is played).
 import { ApiError, get } from "../net/api.js";
 import { Subscription } from "../net/relay.js";
+import { TableSounds } from "../play/sound.js";
 import { decisionWords, playerName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableView } from "../three/view.js";
@@ -15,6 +16,8 @@ const $ = (id) => document.getElementById(id);
 /** Diagnostics the browser tests read (as on the play page). */
 const diagnostics = { shown: -1, shots: 0 };
 window.billiards = diagnostics;
+const sounds = new TableSounds();
+diagnostics.sound = () => sounds.stats();
 
 /** Where each ball stands when a shot starts: its first segment's position. */
 function startPositions(trajectory) {
@@ -84,6 +87,7 @@ class ReplayPage {
     this.animation = new Animation(this.view3d, shot.trajectory, {
       speed: this.speed,
       onDone: () => this.finished(i),
+      onEvent: (type, speed) => sounds.play(type, speed),
     });
     this.animation.paused = !this.playing;
     // The aim view looks along the shot, from behind the ball struck.
@@ -108,6 +112,7 @@ class ReplayPage {
   }
 
   bind() {
+    sounds.bindToggle($("sound"));
     $("pause").addEventListener("click", () => {
       this.playing = !this.playing;
       $("pause").textContent = this.playing ? "Pause" : "Play";
