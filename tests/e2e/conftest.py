@@ -305,8 +305,12 @@ class Api:
         for the referee's state; the view then."""
         for _ in range(most):
             view = self.table(table_id)
-            state = State.model_validate(view["state"])
-            if done(state):
+            if done(State.model_validate(view["state"])):
                 return view
-            self.play(table_id, pick(state).model_dump(mode="json", exclude_defaults=True))
+            self.play_picked(table_id)
         raise AssertionError(f"not there after {most} inputs")
+
+    def play_picked(self, table_id: str) -> dict:
+        """Play the simple shot picker's input for the table as it is; the view after."""
+        state = State.model_validate(self.table(table_id)["state"])
+        return self.play(table_id, pick(state).model_dump(mode="json", exclude_defaults=True))

@@ -200,8 +200,11 @@ class PlayPage {
     }
     this.controls.setEnabled(shooting ? v.next.cue_ball : null, { placing: shooting ? v.next.ball_in_hand : null });
     this.choices(toAct && v.next.kinds.includes("choice") ? v.next.options : []);
-    // Spectators watch: no cue, no stroke controls.
-    for (const id of ["controls", "keys"]) $(id).hidden = mine === null;
+    // Spectators watch: no cue, no stroke controls; nor before the match starts or once over.
+    const choosing = toAct && v.next.kinds.includes("choice");
+    for (const id of ["controls", "keys"]) $(id).hidden = mine === null || v.status !== "playing" || choosing;
+    // A spectator's view is the top view (there is no cue to look along).
+    $("view-toggle").hidden = mine === null;
     this.actions(v, mine);
   }
 
@@ -370,6 +373,9 @@ class PlayPage {
       a.className = "button";
       a.textContent = "Go to the rematch";
       list.push(a);
+    }
+    if (mine === null && v.mode !== "practice" && v.status === "playing") {
+      list.push(Object.assign(document.createElement("p"), { className: "share muted", textContent: "You are watching this match." }));
     }
     if (v.options.private && v.status === "open" && mine !== null) {
       // The link is the invitation: the table is in no lobby list.

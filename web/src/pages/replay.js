@@ -60,6 +60,7 @@ class ReplayPage {
       diagnostics.shots = this.shots.length;
       this.listShot(this.shots.length - 1);
     }
+    if (this.shotWords) this.sayShot(this.shotWords.i, this.shotWords.words);
     const next = this.current < 0 ? this.startAt : this.current + 1;
     if (this.playing && !this.animation && next < this.shots.length) this.show(next);
   }
@@ -83,7 +84,7 @@ class ReplayPage {
     this.animation?.stop();
     this.current = i;
     const shot = this.shots[i];
-    this.say(`Shot ${i + 1} of ${this.shots.length}: ${playerName(this.view, shot.seat)} plays.`);
+    this.sayShot(i, `${playerName(this.view, shot.seat)} plays.`);
     this.animation = new Animation(this.view3d, shot.trajectory, {
       speed: this.speed,
       onDone: () => this.finished(i),
@@ -102,9 +103,15 @@ class ReplayPage {
     const shot = this.shots[i];
     this.animation = null;
     this.view3d.setBalls(shot.rest);
-    this.say(`Shot ${i + 1} of ${this.shots.length}: ${decisionWords(this.view, shot.decision)}`);
+    this.sayShot(i, decisionWords(this.view, shot.decision));
     diagnostics.shown = i;
     if (this.playing && i + 1 < this.shots.length) setTimeout(() => this.current === i && !this.animation && this.show(i + 1), 600 / this.speed);
+  }
+
+  /** "Shot i of n: words", said again with the new count as more shots come in. */
+  sayShot(i, words) {
+    this.shotWords = { i, words };
+    this.say(`Shot ${i + 1} of ${this.shots.length}: ${words}`);
   }
 
   say(text) {
