@@ -132,7 +132,7 @@ def test_every_page_fits_its_screen(open_page, tables, size, viewport):
             canvas = page.locator("#table").bounding_box()
             assert canvas["height"] > 0.35 * viewport["height"], (path, canvas)
             assert page.locator("#sound").is_visible()
-            # A spectator (the match page here) sees the top view only: no toggle to press.
+            # A spectator (the match page here) sees the top view only: no view to switch to.
             assert page.locator("#view-toggle").is_visible() == ("/table/" not in path)
         page.context.close()
 

@@ -29,7 +29,8 @@ const $ = (id) => document.getElementById(id);
 const geometry = fetch("/web/tables").then((r) => r.json());
 
 /** Diagnostics the browser tests read: per animation, its frame intervals and the main thread's
- *  time per frame (ms); how many table states have been shown, and the version of the last;
+ *  time per frame (ms), the resolution scale reached and whether the renderer was taken for a
+ *  software one; how many table states have been shown, and the version of the last;
  *  balls(): where each ball is drawn, in table coordinates; screenOf(p): where on the page a
  *  table point is drawn; camera(): the view last drawn ("aim" or "top"); drawn(): whether
  *  every change asked for has been drawn; sound(): the sounds' state and counts. */
@@ -172,6 +173,7 @@ class PlayPage {
             intervals: animation.frameTimes,
             draws: this.view3d.drawTimes,
             scale: this.view3d.scale,
+            software: this.view3d.software,
           });
           after();
           resolve();
@@ -203,8 +205,9 @@ class PlayPage {
     // Spectators watch: no cue, no stroke controls; nor before the match starts or once over.
     const choosing = toAct && v.next.kinds.includes("choice");
     for (const id of ["controls", "keys"]) $(id).hidden = mine === null || v.status !== "playing" || choosing;
-    // A spectator's view is the top view (there is no cue to look along).
-    $("view-toggle").hidden = mine === null;
+    // The aim view looks along the cue: without one to aim (a spectator, the opponent's turn, a
+    // match over) the table is seen from above, with no view to switch to.
+    $("view-toggle").hidden = !shooting;
     this.actions(v, mine);
   }
 
