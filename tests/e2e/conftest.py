@@ -175,6 +175,23 @@ def unique_name(prefix: str) -> str:
     return f"{prefix}{os.getpid() % 1000}x{next(_names)}"
 
 
+def name_at_home(page: Page, server: Server, prefix: str) -> None:
+    """Open the home page and play as a new name (its name form)."""
+    page.goto(server.url + "/")
+    page.fill("#name", unique_name(prefix))
+    page.click("#name-form button")
+    page.wait_for_function("document.getElementById('who').textContent !== ''")
+
+
+def create_at_home(page: Page, game: str, private: bool = False) -> str:
+    """Create a table of `game` with the home page's form; its id, once the page is on it."""
+    page.select_option("#create-game", game)
+    page.set_checked("#private", private)
+    page.click("#create-form button[type=submit]")
+    page.wait_for_url("**/table/*")
+    return page.url.rsplit("/", 1)[1]
+
+
 def enter_name(page: Page, name: str) -> None:
     """Answer the page's name form (shown to a visitor without an identity)."""
     page.fill(".overlay input", name)
@@ -192,6 +209,27 @@ def wait_version(page: Page, version: int) -> None:
     page.wait_for_function(
         "(v) => (window.billiards?.version ?? -1) >= v", arg=version, timeout=90_000
     )
+
+
+#: Enough shots for both players of a match to have had a turn (a player who pots goes on).
+MAX_SHOTS = 8
+
+
+def take_turn(pages: dict[int, Page], view: dict, hold_ms: int = 450) -> None:
+    """The seat to act in table view `view` acts in its page (the first choice offered, or a
+    keyboard stroke aimed a little left), until that page shows the version after."""
+    shooter = pages[view["next"]["seat"]]
+    wait_version(shooter, view["version"])
+    if view["next"]["kinds"] == ["choice"]:
+        shooter.locator("#choices button").first.click()
+    else:
+        strike_with_keys(shooter, hold_ms=hold_ms, left=2)
+    try:
+        shooter.wait_for_function(
+            "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
+        )
+    except Exception as e:
+        raise AssertionError(shooter.get_by_role("status").inner_text()) from e
 
 
 def wait_drawn(page: Page, camera: str | None = None) -> None:

@@ -8,16 +8,17 @@ import re
 
 from tests.e2e.conftest import (
     GRACE_S,
+    MAX_SHOTS,
     Api,
+    create_at_home,
     enter_name,
+    name_at_home,
     screenshot,
-    strike_with_keys,
+    take_turn,
     unique_name,
     wait_version,
 )
 
-#: Enough shots for the second player to have had a turn (a player who pots goes on).
-MAX_SHOTS = 8
 #: The shot clock of the clock's test (s): long enough for the pages to load within it.
 CLOCK_S = 20
 
@@ -50,15 +51,8 @@ def test_a_private_table_is_played_through_its_link(browser, server, console):
     contexts = [browser.new_context() for _ in range(2)]
     ada, bob = (console.watch(c.new_page(), who) for c, who in zip(contexts, "AB", strict=True))
     try:
-        ada.goto(server.url + "/")
-        ada.fill("#name", unique_name("Pa"))
-        ada.click("#name-form button")
-        ada.wait_for_function("document.getElementById('who').textContent !== ''")
-        ada.select_option("#create-game", "eightball")
-        ada.check("#private")
-        ada.click("#create-form button[type=submit]")
-        ada.wait_for_url("**/table/*")
-        table = ada.url.rsplit("/", 1)[1]
+        name_at_home(ada, server, "Pa")
+        table = create_at_home(ada, "eightball", private=True)
         link = ada.locator("#invite a").inner_text()
         assert link == ada.url
         api = Api(ada, server)
@@ -75,15 +69,7 @@ def test_a_private_table_is_played_through_its_link(browser, server, console):
             view = api.table(table)
             if view["last_outcome"] and view["last_outcome"]["seat"] == 1:
                 break
-            shooter = pages[view["next"]["seat"]]
-            wait_version(shooter, view["version"])
-            if view["next"]["kinds"] == ["choice"]:
-                shooter.locator("#choices button").first.click()
-            else:
-                strike_with_keys(shooter, hold_ms=450, left=2)
-            shooter.wait_for_function(
-                "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
-            )
+            take_turn(pages, view)
         view = api.table(table)
         assert view["last_outcome"]["seat"] == 1  # Bob, who came by the link, played
         assert not view["last_outcome"]["shot_id"].startswith(("clock-", "bot-"))
