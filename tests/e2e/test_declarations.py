@@ -7,7 +7,14 @@ says it took the declaration."""
 from __future__ import annotations
 
 from rules.eightball import on_eight
-from tests.e2e.conftest import Api, screenshot, strike_with_keys, unique_name, wait_shown
+from tests.e2e.conftest import (
+    Api,
+    screenshot,
+    strike_with_keys,
+    unique_name,
+    wait_drawn,
+    wait_shown,
+)
 
 
 def shoot_from_page(page, api: Api, table_id: str) -> dict:
@@ -38,6 +45,8 @@ def test_the_eight_is_called_in_the_page(open_page, server):
     assert api.table(table)["version"] == view["version"]
     assert page.evaluate("document.activeElement.name") == "call"
     call.select_option("top_right")
+    page.locator("#view-toggle").click()  # from above, the called pocket ringed
+    wait_drawn(page, "top")
     screenshot(page, "practice-eightball-call")
     after = shoot_from_page(page, api, table)
     outcome = after["last_outcome"]

@@ -92,6 +92,7 @@ def test_the_shot_clock_counts_down_and_the_server_rules_its_end(browser, server
         later = clock_seconds(ada)
         assert later < first  # counting down, on the page
         screenshot(ada, "table-shot-clock")
+        ada.wait_for_selector("#clock.urgent", timeout=(CLOCK_S + 30) * 1000)  # the last seconds
         # Ada does not shoot: when the clock runs out the server plays for her, and both
         # pages show its ruling (a shot that hits nothing: a foul, Bob has ball in hand).
         for page in pages:

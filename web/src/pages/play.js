@@ -196,6 +196,9 @@ class PlayPage {
     this.scoreboard(v);
     const shooting = toAct && v.next.kinds.includes("shot");
     showExtras($("extras"), shooting ? v : null);
+    // A called pocket is ringed on the table as soon as it is chosen.
+    this.view3d.markPocket(null);
+    $("extras").querySelector('select[name="call"]')?.addEventListener("change", (e) => this.view3d.markPocket(e.target.value || null));
     if (shooting) {
       this.ensureCueBall(v);
       this.aimAtNearest(v.next.cue_ball);

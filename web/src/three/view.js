@@ -180,6 +180,24 @@ export class TableView {
     }
   }
 
+  /** Ring pocket `name` (a called pocket), or no pocket (null). */
+  markPocket(name) {
+    const pocket = this.table.pockets.find((p) => p.name === name);
+    if (!this.pocketMark) {
+      const material = new THREE.MeshBasicMaterial({ color: 0xe8b04a, transparent: true, opacity: 0.9, depthTest: false });
+      this.pocketMark = new THREE.Mesh(new THREE.RingGeometry(1, 1.25, 40), material);
+      this.pocketMark.rotation.x = -Math.PI / 2;
+      this.pocketMark.renderOrder = 1; // over the cushions that hide part of it
+      this.scene.add(this.pocketMark);
+    }
+    this.pocketMark.visible = Boolean(pocket);
+    if (pocket) {
+      this.pocketMark.scale.setScalar(pocket.radius);
+      this.pocketMark.position.copy(this.frame.toWorld(pocket.center[0], pocket.center[1], 0.004));
+    }
+    this.invalidate();
+  }
+
   /** The table position [x, y] of a ball, or null if it is not on the table. */
   ballAt(id) {
     const mesh = this.balls.get(id);
