@@ -192,6 +192,15 @@ def create_at_home(page: Page, game: str, private: bool = False) -> str:
     return page.url.rsplit("/", 1)[1]
 
 
+def join_as(page: Page, name: str) -> None:
+    """Take the free seat of the table the page shows, as new player `name` (the join button,
+    then the name form), until the page shows the player seated."""
+    join = page.get_by_role("button", name="Join this table")
+    join.click()
+    enter_name(page, name)
+    join.wait_for(state="detached")
+
+
 def enter_name(page: Page, name: str) -> None:
     """Answer the page's name form (shown to a visitor without an identity)."""
     page.fill(".overlay input", name)

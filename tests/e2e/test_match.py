@@ -10,7 +10,7 @@ from tests.e2e.conftest import (
     MAX_SHOTS,
     create_at_home,
     drawn_balls,
-    enter_name,
+    join_as,
     name_at_home,
     screenshot,
     strike_with_keys,
@@ -46,8 +46,7 @@ def test_two_players_and_a_spectator(browser, server, console):
         assert "Waiting for an opponent" in ada.get_by_role("status").inner_text()
 
         bob.goto(ada.url)
-        bob.get_by_role("button", name="Join this table").click()
-        enter_name(bob, unique_name("Bob"))
+        join_as(bob, unique_name("Bob"))
         started = view_of(bob, server, table_id)
         assert started["status"] == "playing"
         cy.goto(ada.url)
