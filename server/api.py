@@ -55,7 +55,7 @@ from server.relay.payloads import JSON, media_type
 from server.relay.relay import Relay
 from server.service import SERVICE_KEY, Service, running_service
 from server.storage import StorageError
-from server.tables import TableRecord
+from server.tables import GRACE, TableRecord
 
 #: Largest request body accepted (bytes): an intent is a few hundred.
 MAX_BODY = 16 * 1024
@@ -262,7 +262,7 @@ async def claim(request: web.Request) -> web.Response:
         seat = _seated(record, player)
         if record.status is not Status.PLAYING or record.mode is not Mode.MATCH:
             raise ServiceError(ErrorCode.WRONG_PHASE, "there is no match to claim")
-        until = tables.grace_until(record, seen, time.time())[1 - seat]
+        until = tables.grace_until(record, seen, time.time(), service.grace)[1 - seat]
         if until is None or time.time() < until:
             raise ServiceError(ErrorCode.WRONG_PHASE, "your opponent is here or within grace")
         return tables.bump(record, status=Status.OVER, winner=seat)
@@ -320,7 +320,7 @@ async def heartbeat(request: web.Request) -> web.Response:
     message = PresenceMessage(
         version=record.version,
         presence=tables.presence(record, seen, now),
-        grace_until=tables.grace_until(record, seen, now),
+        grace_until=tables.grace_until(record, seen, now, service.grace),
     )
     last = service.presence.get(record.id)
     if last is None or last.presence != message.presence:
@@ -486,6 +486,7 @@ def mount_api(
     database: str | None,
     redis_url: str | None,
     workers: int | None,
+    grace: float = GRACE,
 ) -> None:
     """Add the `/api/` routes, their error handling and the service's lifetime to `app`."""
     app.middlewares.append(api_errors)
@@ -494,7 +495,7 @@ def mount_api(
     app.router.add_get("/api/openapi.json", _openapi)
 
     async def lifetime(app: web.Application) -> AsyncIterator[None]:
-        async with running_service(relay, database, redis_url, workers) as service:
+        async with running_service(relay, database, redis_url, workers, grace) as service:
             app[SERVICE_KEY] = service
             yield
 

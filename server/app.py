@@ -18,6 +18,7 @@ from server.relay.memory import MemoryBackend
 from server.relay.relay import Relay
 from server.relay.routes import mount_relay
 from server.relay.settings import RelaySettings
+from server.tables import GRACE
 from server.web import mount_web
 
 
@@ -32,6 +33,9 @@ class AppSettings(BaseModel):
         default=None, description="SQLite file of the game service (without Redis); None: memory"
     )
     workers: int | None = Field(default=None, ge=1, description="simulation processes")
+    grace: float = Field(
+        default=GRACE, ge=0, le=3600, description="seconds before a gone player's win is claimable"
+    )
 
 
 def make_backend(settings: AppSettings) -> Backend:
@@ -63,5 +67,6 @@ def create_app(settings: AppSettings | None = None) -> web.Application:
         database=settings.database,
         redis_url=settings.redis_url,
         workers=settings.workers,
+        grace=settings.grace,
     )
     return app

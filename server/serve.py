@@ -39,8 +39,9 @@ def _serve(args: argparse.Namespace) -> int:
     if secret is None and args.redis is None:
         secret = token_key(args.db)
     relay = RelaySettings(auth_secret=secret)
+    grace = {} if args.grace is None else {"grace": args.grace}
     settings = AppSettings(
-        relay=relay, redis_url=args.redis, database=args.db, workers=args.workers
+        relay=relay, redis_url=args.redis, database=args.db, workers=args.workers, **grace
     )
     app = create_app(settings)
     web.run_app(app, host=args.host, port=args.port, loop=new_event_loop(args.uvloop))
@@ -56,6 +57,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--db", default="billiards.sqlite3", help="SQLite file of the game (without --redis)"
     )
     parser.add_argument("--workers", type=int, help="simulation processes (default: one per core)")
+    parser.add_argument(
+        "--grace",
+        type=float,
+        metavar="SECONDS",
+        help="how long a disconnected player may stay away before the opponent may claim the "
+        "win (default: server.tables.GRACE)",
+    )
     parser.add_argument(
         "--uvloop", action="store_true", help="run on uvloop's event loop (pip install uvloop)"
     )

@@ -24,6 +24,7 @@ from server.relay.limits import RateLimiter
 from server.relay.relay import Relay
 from server.replays import ReplayShotsCache
 from server.storage import Storage
+from server.tables import GRACE
 from server.workers import WorkerPool, default_workers
 
 #: (requests per second, burst) per caller for what makes the server store or send something:
@@ -49,6 +50,8 @@ class Service:
     lobby: Lobby
     matches: Matches
     replay_shots: ReplayShotsCache
+    #: Seconds a disconnected player may stay away before the opponent may claim the win.
+    grace: float = GRACE
     #: The presence each table last announced from this process (to announce changes once).
     presence: dict[str, PresenceMessage] = field(default_factory=dict)
     #: Token buckets for what a client can make the server store or send (see LIMITS).
@@ -75,7 +78,11 @@ async def open_storage(database: str | None, redis_url: str | None) -> Storage:
 
 @asynccontextmanager
 async def running_service(
-    relay: Relay, database: str | None, redis_url: str | None, workers: int | None
+    relay: Relay,
+    database: str | None,
+    redis_url: str | None,
+    workers: int | None,
+    grace: float = GRACE,
 ) -> AsyncIterator[Service]:
     """The service, its storage open, worker pool started and lobby publishing, until exit."""
     storage = await open_storage(database, redis_url)
@@ -93,6 +100,7 @@ async def running_service(
         lobby=lobby,
         matches=Matches(context),
         replay_shots=ReplayShotsCache(storage, pool),
+        grace=grace,
     )
     try:
         async with lobby.running(), running_clock(storage, service.matches):

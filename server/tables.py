@@ -193,11 +193,14 @@ def presence(record: TableRecord, seen: Seen, now: float) -> tuple[bool, bool]:
     return here[0], here[1]
 
 
-def grace_until(record: TableRecord, seen: Seen, now: float) -> tuple[float | None, float | None]:
-    """For each absent seat, when its opponent may claim the win (None if present)."""
+def grace_until(
+    record: TableRecord, seen: Seen, now: float, grace: float = GRACE
+) -> tuple[float | None, float | None]:
+    """For each absent seat, when its opponent may claim the win (None if present): `grace`
+    seconds after it was first shown disconnected."""
     here = presence(record, seen, now)
     until = [
-        None if present or last is None else last + PRESENCE_TIMEOUT + GRACE
+        None if present or last is None else last + PRESENCE_TIMEOUT + grace
         for present, last in zip(here, seen, strict=True)
     ]
     return until[0], until[1]

@@ -21,11 +21,16 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, ConsoleMessage, Page, sync_playwright
 
+from rules.pickers import pick
+from rules.state import State
 from tests.redis_server import free_port
 
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
 ARTEFACTS = Path(__file__).parent / "artefacts"
 START_TIMEOUT_S = 30.0
+#: The test server's grace period (`billiards serve --grace`): a gone player's win may be
+#: claimed this long after he is shown disconnected, not a minute, so a test can wait for it.
+GRACE_S = 5.0
 #: Software WebGL: ANGLE on SwiftShader, allowed although no GPU is there.
 CHROMIUM_ARGS = [
     "--use-gl=angle",
@@ -55,6 +60,7 @@ class Server:
 
     def start(self) -> None:
         command = [sys.executable, "-m", "server.cli", "serve", "--port", str(self.port)]
+        command += ["--grace", str(GRACE_S)]
         env = {**os.environ, "BILLIARDS_RELAY_SECRET": "e2e-secret-0123456789abcdef0123456789"}
         self.log = open(self.directory / "server.log", "ab")  # noqa: SIM115 (closed in stop)
         self.process = subprocess.Popen(
@@ -169,6 +175,32 @@ def unique_name(prefix: str) -> str:
     return f"{prefix}{os.getpid() % 1000}x{next(_names)}"
 
 
+def name_at_home(page: Page, server: Server, prefix: str) -> None:
+    """Open the home page and play as a new name (its name form)."""
+    page.goto(server.url + "/")
+    page.fill("#name", unique_name(prefix))
+    page.click("#name-form button")
+    page.wait_for_function("document.getElementById('who').textContent !== ''")
+
+
+def create_at_home(page: Page, game: str, private: bool = False) -> str:
+    """Create a table of `game` with the home page's form; its id, once the page is on it."""
+    page.select_option("#create-game", game)
+    page.set_checked("#private", private)
+    page.click("#create-form button[type=submit]")
+    page.wait_for_url("**/table/*")
+    return page.url.rsplit("/", 1)[1]
+
+
+def join_as(page: Page, name: str) -> None:
+    """Take the free seat of the table the page shows, as new player `name` (the join button,
+    then the name form), until the page shows the player seated."""
+    join = page.get_by_role("button", name="Join this table")
+    join.click()
+    enter_name(page, name)
+    join.wait_for(state="detached")
+
+
 def enter_name(page: Page, name: str) -> None:
     """Answer the page's name form (shown to a visitor without an identity)."""
     page.fill(".overlay input", name)
@@ -179,6 +211,34 @@ def enter_name(page: Page, name: str) -> None:
 def wait_shown(page: Page, count: int = 1, timeout: float = 60_000) -> None:
     """Until the play page has shown `count` table states (views or outcomes, animated)."""
     page.wait_for_function("(n) => (window.billiards?.shown ?? 0) >= n", arg=count, timeout=timeout)
+
+
+def wait_version(page: Page, version: int) -> None:
+    """Until the page shows the table at `version` (any animation played to its end)."""
+    page.wait_for_function(
+        "(v) => (window.billiards?.version ?? -1) >= v", arg=version, timeout=90_000
+    )
+
+
+#: Enough shots for both players of a match to have had a turn (a player who pots goes on).
+MAX_SHOTS = 8
+
+
+def take_turn(pages: dict[int, Page], view: dict, hold_ms: int = 450) -> None:
+    """The seat to act in table view `view` acts in its page (the first choice offered, or a
+    keyboard stroke aimed a little left), until that page shows the version after."""
+    shooter = pages[view["next"]["seat"]]
+    wait_version(shooter, view["version"])
+    if view["next"]["kinds"] == ["choice"]:
+        shooter.locator("#choices button").first.click()
+    else:
+        strike_with_keys(shooter, hold_ms=hold_ms, left=2)
+    try:
+        shooter.wait_for_function(
+            "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
+        )
+    except Exception as e:
+        raise AssertionError(shooter.get_by_role("status").inner_text()) from e
 
 
 def wait_drawn(page: Page, camera: str | None = None) -> None:
@@ -227,3 +287,77 @@ def canvas_colours(page: Page) -> dict[str, float]:
             return {blue: blue / n, green: green / n, blank: blank / n};
         }"""
     )
+
+
+class Api:
+    """The game service's HTTP API as one player (the token a page keeps, or a new one),
+    through Playwright's request context: the tests put tables where the page is to be shown."""
+
+    def __init__(self, page: Page, server: Server) -> None:
+        self.page, self.server = page, server
+
+    def token(self) -> str | None:
+        return self.page.evaluate("localStorage.getItem('billiards.token')")
+
+    def call(self, method: str, path: str, body: dict | None = None) -> dict:
+        token = self.token()
+        headers = {"Authorization": f"Bearer {token}"} if token else {}
+        answer = self.page.request.fetch(
+            self.server.url + path, method=method, headers=headers, data=body
+        )
+        assert answer.ok, (path, answer.status, answer.text())
+        return answer.json()
+
+    def sign_in(self, name: str) -> dict:
+        """Become player `name` and keep the token where the client looks (the server's
+        origin's localStorage), as the page's name form does."""
+        if not self.page.url.startswith(self.server.url):
+            self.page.goto(self.server.url + "/")
+        answer = self.call("POST", "/api/players", {"name": name})
+        self.page.evaluate(
+            """(a) => {
+                localStorage.setItem('billiards.token', a.token);
+                localStorage.setItem('billiards.player', JSON.stringify(a.player));
+            }""",
+            answer,
+        )
+        return answer["player"]
+
+    def table(self, table_id: str) -> dict:
+        return self.call("GET", f"/api/tables/{table_id}")
+
+    def practice(self, game: str) -> str:
+        """A new practice table of `game`, kept where /practice/{game} looks for it."""
+        table_id = self.call("POST", "/api/tables", {"game": game, "mode": "practice"})["id"]
+        self.page.evaluate(
+            "([game, id]) => localStorage.setItem('billiards.practice.' + game, id)",
+            [game, table_id],
+        )
+        return table_id
+
+    def play(self, table_id: str, action: dict, timeout: float = 60.0) -> dict:
+        """Send input `action` for the table as it is; the view once its outcome is in."""
+        view = self.table(table_id)
+        shot_id = f"e2e{view['version']:06d}x{next(_names)}"
+        body = {"version": view["version"], "shot_id": shot_id, "input": action}
+        self.call("POST", f"/api/tables/{table_id}/intents", body)
+        deadline = time.monotonic() + timeout
+        while (now := self.table(table_id))["version"] <= view["version"]:
+            assert time.monotonic() < deadline, f"no outcome for {action} in {timeout} s"
+            time.sleep(0.1)
+        return now
+
+    def play_until(self, table_id: str, done, most: int = 60) -> dict:
+        """Play the table with the simple shot picker (rules.pickers) until done(state) holds
+        for the referee's state; the view then."""
+        for _ in range(most):
+            view = self.table(table_id)
+            if done(State.model_validate(view["state"])):
+                return view
+            self.play_picked(table_id)
+        raise AssertionError(f"not there after {most} inputs")
+
+    def play_picked(self, table_id: str) -> dict:
+        """Play the simple shot picker's input for the table as it is; the view after."""
+        state = State.model_validate(self.table(table_id)["state"])
+        return self.play(table_id, pick(state).model_dump(mode="json", exclude_defaults=True))

@@ -7,26 +7,21 @@ from __future__ import annotations
 import math
 
 from tests.e2e.conftest import (
+    MAX_SHOTS,
+    create_at_home,
     drawn_balls,
-    enter_name,
+    join_as,
+    name_at_home,
     screenshot,
     strike_with_keys,
+    take_turn,
     unique_name,
+    wait_version,
 )
-
-#: Enough shots for both players to have had a turn (a player who pots goes on).
-MAX_SHOTS = 8
 
 
 def view_of(page, server, table_id: str) -> dict:
     return page.request.get(f"{server.url}/api/tables/{table_id}").json()
-
-
-def wait_version(page, version: int) -> None:
-    """Until the page shows the table at `version` (any animation played to its end)."""
-    page.wait_for_function(
-        "(v) => (window.billiards?.version ?? -1) >= v", arg=version, timeout=90_000
-    )
 
 
 def assert_shows(page, view: dict) -> None:
@@ -45,20 +40,13 @@ def test_two_players_and_a_spectator(browser, server, console):
         console.watch(c.new_page(), who) for c, who in zip(contexts, "ABC", strict=True)
     )
     try:
-        ada.goto(server.url + "/")
-        ada.fill("#name", unique_name("Ada"))
-        ada.click("#name-form button")
-        ada.wait_for_function("document.getElementById('who').textContent !== ''")
-        ada.select_option("#create-game", "nineball")
-        ada.click("#create-form button[type=submit]")
-        ada.wait_for_url("**/table/*")
-        table_id = ada.url.rsplit("/", 1)[1]
+        name_at_home(ada, server, "Ada")
+        table_id = create_at_home(ada, "nineball")
         wait_version(ada, 0)
         assert "Waiting for an opponent" in ada.get_by_role("status").inner_text()
 
         bob.goto(ada.url)
-        bob.get_by_role("button", name="Join this table").click()
-        enter_name(bob, unique_name("Bob"))
+        join_as(bob, unique_name("Bob"))
         started = view_of(bob, server, table_id)
         assert started["status"] == "playing"
         cy.goto(ada.url)
@@ -70,19 +58,8 @@ def test_two_players_and_a_spectator(browser, server, console):
         shooters = set()
         view = started
         for _ in range(MAX_SHOTS):
-            seat = view["next"]["seat"]
-            shooter = pages[seat]
-            if view["next"]["kinds"] == ["choice"]:
-                shooter.locator("#choices button").first.click()
-            else:
-                strike_with_keys(shooter, hold_ms=400 + 150 * len(shooters), left=2)
-            shooters.add(seat)
-            try:
-                shooter.wait_for_function(
-                    "(v) => window.billiards.version > v", arg=view["version"], timeout=90_000
-                )
-            except Exception as e:
-                raise AssertionError(shooter.get_by_role("status").inner_text()) from e
+            shooters.add(view["next"]["seat"])
+            take_turn(pages, view, hold_ms=250 + 150 * len(shooters))
             view = view_of(cy, server, table_id)
             for page in (ada, bob, cy):
                 wait_version(page, view["version"])
@@ -131,10 +108,7 @@ def test_quick_match_pairs_two_players(browser, server, console):
     try:
         pages = [console.watch(c.new_page(), who) for c, who in zip(contexts, "DE", strict=True)]
         for page in pages:
-            page.goto(server.url + "/")
-            page.fill("#name", unique_name("Qm"))
-            page.click("#name-form button")
-            page.wait_for_function("document.getElementById('who').textContent !== ''")
+            name_at_home(page, server, "Qm")
         # The first waits (told of its pairing on its player channel), the second is paired.
         first, second = pages
         first.locator("#games .card", has_text="Snooker").get_by_role(
@@ -158,9 +132,7 @@ def test_quick_match_pairs_two_players(browser, server, console):
 
 def test_a_game_against_the_bot(open_page, server):
     page = open_page("/")
-    page.fill("#name", unique_name("Vb"))
-    page.click("#name-form button")
-    page.wait_for_function("document.getElementById('who').textContent !== ''")
+    name_at_home(page, server, "Vb")
     page.locator("#games .card", has_text="Eight-ball").get_by_role(
         "button", name="Play the bot"
     ).click()

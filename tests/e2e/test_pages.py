@@ -8,6 +8,7 @@ import json
 import pytest
 
 from tests.e2e.conftest import (
+    Api,
     artefact,
     canvas_colours,
     enter_name,
@@ -54,24 +55,86 @@ def test_practice_table_draws_in_its_colours(open_page, game, cloth):
     screenshot(page, f"practice-{game}-top")
 
 
-def test_home_page_and_first_load_size(open_page):
-    sizes = {}
-    page = open_page("/", who="home")
-    page.wait_for_selector("#games .card")
+@pytest.fixture(scope="module")
+def tables(browser, server) -> dict[str, str]:
+    """A snooker match (Ada and Bob seated, Ada to break) and a practice table with two shots
+    played, to open the table and replay pages on: {"match": id, "played": id}."""
+    contexts = [browser.new_context() for _ in range(2)]
+    try:
+        ada, bob = (Api(c.new_page(), server) for c in contexts)
+        ada.sign_in(unique_name("Ta"))
+        bob.sign_in(unique_name("Tb"))
+        played = ada.practice("nineball")
+        for _ in range(2):
+            ada.play_picked(played)
+        match = ada.call("POST", "/api/tables", {"game": "snooker"})["id"]
+        bob.call("POST", f"/api/tables/{match}/join")
+        return {"match": match, "played": played}
+    finally:
+        for c in contexts:
+            c.close()
+
+
+#: Each page, and what shows it has loaded (its first table state, or an element drawn).
+PAGES = {
+    "/": "#games .card",
+    "/practice/snooker": None,
+    "/table/{match}": None,
+    "/replay/{played}": "#shots li",
+    "/leaderboard/nineball": "#board-status:not(:empty)",
+    "/diagrams": "#motion-chart canvas",
+}
+
+
+def open_loaded(open_page, path: str, tables: dict[str, str], **how):
+    """Page `path` (ids filled from `tables`) in a fresh context, loaded (a practice page after
+    its name form is answered)."""
+    page = open_page(path.format(**tables), **how)
+    if path.startswith("/practice/"):
+        enter_name(page, unique_name("Sz"))
+    if PAGES[path] is None:
+        wait_shown(page)
+        wait_drawn(page)
+    else:
+        page.wait_for_selector(PAGES[path])
     page.wait_for_load_state("networkidle")
-    sizes["/"] = first_load(page)
-    screenshot(page, "home")
-    page = open_page("/practice/snooker", who="practice")
-    enter_name(page, unique_name("Sz"))
-    wait_shown(page)
-    sizes["/practice/snooker"] = first_load(page)
-    page = open_page("/diagrams", who="diagrams")
-    page.wait_for_selector("#motion-chart canvas")
-    sizes["/diagrams"] = first_load(page)
+    return page
+
+
+def test_first_load_of_every_page(open_page, tables):
+    sizes = {}
+    for path in PAGES:
+        page = open_loaded(open_page, path, tables, who=path)
+        sizes[path] = first_load(page)
+        page.context.close()
     artefact("first-load", ".json").write_text(json.dumps(sizes, indent=1))
     print("first load (bytes over the wire, gzipped):", sizes)
     for path, size in sizes.items():
         assert 0 < size <= FIRST_LOAD_LIMIT, (path, size)
+
+
+@pytest.mark.parametrize(
+    "size, viewport",
+    [("desktop", {"width": 1280, "height": 800}), ("phone", {"width": 390, "height": 844})],
+)
+def test_every_page_fits_its_screen(open_page, tables, size, viewport):
+    """Every page at a desktop's and a phone's size: nothing wider than the screen, the header
+    and the page's main controls on it; a screenshot of each to look at."""
+    for path in PAGES:
+        page = open_loaded(open_page, path, tables, who=f"{path} {size}", viewport=viewport)
+        name = path.strip("/").split("/")[0] or "home"
+        screenshot(page, f"page-{name}-{size}")
+        width = page.evaluate("document.documentElement.scrollWidth")
+        assert width <= viewport["width"], (path, width)
+        header = page.locator("header.top").bounding_box()
+        assert header["height"] < 0.15 * viewport["height"], (path, header)
+        if "/table/" in path or "/practice/" in path or "/replay/" in path:
+            canvas = page.locator("#table").bounding_box()
+            assert canvas["height"] > 0.35 * viewport["height"], (path, canvas)
+            assert page.locator("#sound").is_visible()
+            # A spectator (the match page here) sees the top view only: no view to switch to.
+            assert page.locator("#view-toggle").is_visible() == ("/table/" not in path)
+        page.context.close()
 
 
 def test_leaderboard_page_loads(open_page):

@@ -40,6 +40,8 @@ def test_a_keyboard_shot_moves_the_balls_and_the_referee_speaks(open_page, serve
     after = table_state(page, server)
     assert after["version"] == 2 or after["last_outcome"] is not None
     drawn = drawn_balls(page)
+    if "cue" not in after["state"]["balls"]:  # a scratch: the page offers a place for it
+        drawn.pop("cue")
     # The page shows the server's resting positions, and the break moved the balls.
     assert drawn.keys() == after["state"]["balls"].keys()
     for ball, p in drawn.items():
@@ -64,6 +66,7 @@ def test_snooker_break_frame_time(open_page, server):
     wait_shown(page, 2, timeout=120_000)
     stats = page.evaluate("window.billiards.animations[0]")
     assert stats["balls"] == 22
+    assert stats["software"]  # SwiftShader is seen as such: the cheaper drawing
     intervals, draws = stats["intervals"], stats["draws"]
     report = {
         "balls": stats["balls"],
@@ -72,8 +75,10 @@ def test_snooker_break_frame_time(open_page, server):
         "interval_ms_median": round(statistics.median(intervals), 1),
         "interval_ms_p90": round(statistics.quantiles(intervals, n=10)[-1], 1),
         "main_thread_ms_median": round(statistics.median(draws), 2),
+        "main_thread_ms_p90": round(statistics.quantiles(draws, n=10)[-1], 2),
         "resolution_scale_reached": stats["scale"],
-        "renderer": "SwiftShader (software WebGL), headless Chromium",
+        "renderer": "SwiftShader (software WebGL), headless Chromium: drawn without MSAA, "
+        "shadow map or PBR materials (web/src/three/view.js softwareRenderer)",
     }
     artefact("snooker-break-frames", ".json").write_text(json.dumps(report, indent=1))
     print("snooker break animation:", report)

@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import time
 
+import pytest
 from aiohttp.test_utils import TestClient
 
+from server.tables import PRESENCE_TIMEOUT
 from tests.service.conftest import StartServer, register, service_of, watch
 from tests.service.test_match import abandon_input, picked, seated_match
 
@@ -68,6 +70,19 @@ async def test_presence_claim_and_resign(server: TestClient) -> None:
     _, _, other = await seated_match(server, (ada, bob))
     _, resigned = await ada.call("POST", f"/api/tables/{other['id']}/resign", expect=200)
     assert (resigned["status"], resigned["winner"]) == ("over", 1)
+
+
+async def test_the_grace_period_is_the_servers_setting(start_server: StartServer) -> None:
+    server = await start_server(grace=30.0)
+    ada, _, view = await seated_match(server)
+    table = view["id"]
+    gone = time.time() - 45  # Bob's last heartbeat: past 10 + 30 s, within the default 10 + 60
+    await service_of(server).storage.heartbeat(table, 1, gone)
+    _, presence = await ada.call("POST", f"/api/tables/{table}/heartbeat", expect=200)
+    assert presence["presence"] == [True, False]
+    assert presence["grace_until"][1] == pytest.approx(gone + PRESENCE_TIMEOUT + 30.0)
+    _, won = await ada.call("POST", f"/api/tables/{table}/claim", expect=200)
+    assert (won["status"], won["winner"]) == ("over", 0)
 
 
 async def test_a_rematch_swaps_the_break_once_both_ask(server: TestClient) -> None:

@@ -42,12 +42,27 @@ def wire(shot: physics.Shot) -> dict[str, list[list]]:
     }
 
 
+#: Reads {balls, events} on stdin; prints eventSpeed of each event.
+SPEEDS = """
+import { eventSpeed } from %s;
+let text = "";
+for await (const chunk of process.stdin) text += chunk;
+const { balls, events } = JSON.parse(text);
+console.log(JSON.stringify(events.map((e) => eventSpeed(balls, e))));
+"""
+
+
 def run_js(balls: dict, times: list[float]) -> dict:
+    return node(SCRIPT, {"balls": balls, "times": times})
+
+
+def node(script: str, payload: dict):
+    """What `script` (an ES module importing trajectory.js as %s) prints for `payload`."""
     node = shutil.which("node")
     assert node, "node is missing: `bash dev.sh test` installs Debian's npm (and node)"
     result = subprocess.run(
-        [node, "--input-type=module", "-e", SCRIPT % json.dumps(MODULE.as_uri())],
-        input=json.dumps({"balls": balls, "times": times}),
+        [node, "--input-type=module", "-e", script % json.dumps(MODULE.as_uri())],
+        input=json.dumps(payload),
         capture_output=True,
         text=True,
         check=True,
@@ -89,3 +104,36 @@ def test_a_rolling_ball_turns_by_the_distance_it_rolls():
     assert angle == pytest.approx(math.hypot(x1 - x0, y1 - y0) / R, rel=1e-6)
     # Rolling along +y turns the ball about -x (the engine's frame, z up).
     assert qx < 0 and abs(qy) < 1e-9 and abs(qz) < 1e-9
+
+
+def test_event_speeds_are_the_balls_speeds_at_the_event():
+    """eventSpeed (the sounds' loudness): the cue ball's speed after the strike, two balls'
+    relative speed before their contact, a ball's speed before a cushion or a pocket; checked
+    against the engine's positions by finite differences, away from other events."""
+    shot = physics.simulate(nineball_break())
+    events = [e.model_dump() for e in shot.events]
+    got = node(SPEEDS, {"balls": wire(shot), "events": events})
+    h = 1e-6
+
+    def velocity(ball: str, t: float) -> tuple[float, float]:
+        (x0, y0), (x1, y1) = shot.position(ball, t - h), shot.position(ball, t + h)
+        return ((x1 - x0) / (2 * h), (y1 - y0) / (2 * h))
+
+    def alone(e, gap: float = 1e-4) -> bool:
+        return not any(
+            o is not e and abs(o.t - e.t) < gap and set(o.balls) & set(e.balls) for o in shot.events
+        )
+
+    checked = set()
+    for e, speed in zip(shot.events, got, strict=True):
+        if e.type == "strike":
+            want = math.hypot(*velocity(e.balls[0], e.t + 1e-4))
+        elif e.type in ("ball_ball", "ball_cushion", "ball_pocket") and alone(e):
+            v = velocity(e.balls[0], e.t - 1e-4)
+            w = velocity(e.balls[1], e.t - 1e-4) if e.type == "ball_ball" else (0.0, 0.0)
+            want = math.hypot(v[0] - w[0], v[1] - w[1])
+        else:
+            continue
+        assert speed == pytest.approx(want, rel=0.02, abs=0.01), e
+        checked.add(e.type)
+    assert {"strike", "ball_ball", "ball_cushion"} <= checked

@@ -98,3 +98,21 @@ export function multiply(a, b) {
     aw * bw - ax * bx - ay * by - az * bz,
   ];
 }
+
+/** Half the window (s) around an event in which the speeds before and after it are read: wider
+ *  than the rounding of the segments' start times on the wire, far shorter than any motion. */
+const EVENT_EPS = 1e-5;
+
+/**
+ * How hard event `event` ({t, type, balls}) of a shot struck, in m/s, from its balls' segments
+ * (`balls`: {id: segments}): for a strike, the cue ball's speed just after; for ball on ball,
+ * the two balls' relative speed just before; for a cushion, a jaw or a pocket, the ball's speed
+ * just before. (The sounds' loudness.)
+ */
+export function eventSpeed(balls, event) {
+  const [first, second] = event.balls;
+  if (event.type === "strike") return Math.hypot(...velocityAt(balls[first], event.t + EVENT_EPS));
+  const v = velocityAt(balls[first], event.t - EVENT_EPS);
+  const w = second && balls[second] ? velocityAt(balls[second], event.t - EVENT_EPS) : [0, 0];
+  return Math.hypot(v[0] - w[0], v[1] - w[1]);
+}

@@ -5,8 +5,9 @@ import { ApiError, currentPlayer, get, post } from "../net/api.js";
 import { ensurePlayer, showWho } from "../net/identity.js";
 import { Controls } from "../play/controls.js";
 import { TableSession } from "../play/session.js";
-import { readExtras, showExtras } from "../play/extras.js";
-import { decisionWords, nextPoolRun, nextWords, optionWords, playerName, scoreWords, seatName } from "../play/words.js";
+import { missingExtra, readExtras, showExtras } from "../play/extras.js";
+import { TableSounds } from "../play/sound.js";
+import { nextPoolRun, nextWords, optionWords, outcomeWords, playerName, scoreWords, seatName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableView } from "../three/view.js";
 
@@ -21,16 +22,22 @@ const QUICK_MESSAGES = {
   bye: "Bye",
 };
 
+/** Seconds left on the shot clock from which it is shown in alarm. */
+const URGENT_S = 5;
+
 const $ = (id) => document.getElementById(id);
 const geometry = fetch("/web/tables").then((r) => r.json());
 
 /** Diagnostics the browser tests read: per animation, its frame intervals and the main thread's
- *  time per frame (ms); how many table states have been shown, and the version of the last;
+ *  time per frame (ms), the resolution scale reached and whether the renderer was taken for a
+ *  software one; how many table states have been shown, and the version of the last;
  *  balls(): where each ball is drawn, in table coordinates; screenOf(p): where on the page a
  *  table point is drawn; camera(): the view last drawn ("aim" or "top"); drawn(): whether
- *  every change asked for has been drawn. */
+ *  every change asked for has been drawn; sound(): the sounds' state and counts. */
 const diagnostics = { animations: [], shown: 0 };
 window.billiards = diagnostics;
+const sounds = new TableSounds();
+diagnostics.sound = () => sounds.stats();
 
 function button(label, onClick, className = "") {
   const b = document.createElement("button");
@@ -109,6 +116,7 @@ class PlayPage {
       { strike: (aim) => this.strike(aim), place: (p) => this.place(p) },
     );
     this.chatButtons();
+    sounds.bindToggle($("sound"));
   }
 
   async showView(view) {
@@ -119,7 +127,7 @@ class PlayPage {
     this.placement = null;
     this.showPresence(view.presence, this.grace);
     this.session.beat(this.mySeat() !== null && view.status === "playing");
-    if (view.last_outcome?.decision && !this.lastWords) this.lastWords = decisionWords(view, view.last_outcome.decision);
+    if (view.last_outcome?.decision && !this.lastWords) this.lastWords = outcomeWords(view, view.last_outcome);
     this.refresh();
     diagnostics.shown += 1;
     diagnostics.version = view.version;
@@ -140,7 +148,7 @@ class PlayPage {
       this.view3d.setBalls(message.state.balls);
       this.placement = null;
       if (message.decision) {
-        this.lastWords = decisionWords(shown, message.decision);
+        this.lastWords = outcomeWords(shown, message);
         this.poolRun = nextPoolRun(this.poolRun, message.decision);
       } else if (message.void) {
         this.lastWords = `The shot could not be played (${message.void}).`;
@@ -157,6 +165,7 @@ class PlayPage {
     this.status(`${seatName(shown, message.seat)} shoots...`);
     return new Promise((resolve) => {
       const animation = new Animation(this.view3d, message.trajectory, {
+        onEvent: (type, speed) => sounds.play(type, speed),
         onDone: () => {
           diagnostics.animations.push({
             balls: Object.keys(message.trajectory.balls).length,
@@ -164,6 +173,7 @@ class PlayPage {
             intervals: animation.frameTimes,
             draws: this.view3d.drawTimes,
             scale: this.view3d.scale,
+            software: this.view3d.software,
           });
           after();
           resolve();
@@ -186,14 +196,21 @@ class PlayPage {
     this.scoreboard(v);
     const shooting = toAct && v.next.kinds.includes("shot");
     showExtras($("extras"), shooting ? v : null);
+    // A called pocket is ringed on the table as soon as it is chosen.
+    this.view3d.markPocket(null);
+    $("extras").querySelector('select[name="call"]')?.addEventListener("change", (e) => this.view3d.markPocket(e.target.value || null));
     if (shooting) {
       this.ensureCueBall(v);
       this.aimAtNearest(v.next.cue_ball);
     }
     this.controls.setEnabled(shooting ? v.next.cue_ball : null, { placing: shooting ? v.next.ball_in_hand : null });
     this.choices(toAct && v.next.kinds.includes("choice") ? v.next.options : []);
-    // Spectators watch: no cue, no stroke controls.
-    for (const id of ["controls", "keys"]) $(id).hidden = mine === null;
+    // Spectators watch: no cue, no stroke controls; nor before the match starts or once over.
+    const choosing = toAct && v.next.kinds.includes("choice");
+    for (const id of ["controls", "keys"]) $(id).hidden = mine === null || v.status !== "playing" || choosing;
+    // The aim view looks along the cue: without one to aim (a spectator, the opponent's turn, a
+    // match over) the table is seen from above, with no view to switch to.
+    $("view-toggle").hidden = !shooting;
     this.actions(v, mine);
   }
 
@@ -214,6 +231,7 @@ class PlayPage {
     clock.className = "clock";
     clock.id = "clock";
     box.append(clock);
+    this.showClock();
   }
 
   tickClock() {
@@ -223,10 +241,17 @@ class PlayPage {
       if (claim !== this.claimShown) this.actions(this.shown, this.mySeat());
       this.claimShown = claim;
     }
+    this.showClock();
+  }
+
+  /** The seconds left to the player to act (the server rules the deadline; this only shows it). */
+  showClock() {
     const clock = $("clock");
     const deadline = this.shown?.next?.deadline;
     if (!clock) return;
-    clock.textContent = deadline ? `Shot clock ${Math.max(0, Math.ceil(deadline - Date.now() / 1000))} s` : "";
+    const left = deadline ? Math.max(0, Math.ceil(deadline - Date.now() / 1000)) : null;
+    clock.textContent = left === null ? "" : `Shot clock ${left} s`;
+    clock.classList.toggle("urgent", left !== null && left <= URGENT_S);
   }
 
   /** With the cue ball in hand and off the table, put it on the region's usual spot, or the
@@ -276,6 +301,14 @@ class PlayPage {
 
   async strike(aim) {
     const v = this.shown;
+    const missing = missingExtra($("extras"));
+    if (missing) {
+      // Not sent: the referee would refuse it. The controls stay as they were, aim and all.
+      this.controls.setEnabled(v.next.cue_ball, { placing: v.next.ball_in_hand });
+      this.status(missing.words);
+      missing.input.focus();
+      return;
+    }
     const round = (x, digits) => Number(x.toFixed(digits));
     const input = {
       strike: {
@@ -346,6 +379,18 @@ class PlayPage {
       a.className = "button";
       a.textContent = "Go to the rematch";
       list.push(a);
+    }
+    if (mine === null && v.mode !== "practice" && v.status === "playing") {
+      list.push(Object.assign(document.createElement("p"), { className: "share muted", textContent: "You are watching this match." }));
+    }
+    if (v.options.private && v.status === "open" && mine !== null) {
+      // The link is the invitation: the table is in no lobby list.
+      const share = document.createElement("p");
+      share.className = "share";
+      share.id = "invite";
+      const link = Object.assign(document.createElement("a"), { href: `/table/${v.id}`, textContent: `${location.origin}/table/${v.id}` });
+      share.append("Private table: send this link to your opponent ", link);
+      list.push(share);
     }
     if (v.mode !== "practice") {
       list.push(

@@ -6,6 +6,7 @@
 //   relay's buffer, and each new one as it is played).
 import { ApiError, get } from "../net/api.js";
 import { Subscription } from "../net/relay.js";
+import { TableSounds } from "../play/sound.js";
 import { decisionWords, playerName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableView } from "../three/view.js";
@@ -15,6 +16,8 @@ const $ = (id) => document.getElementById(id);
 /** Diagnostics the browser tests read (as on the play page). */
 const diagnostics = { shown: -1, shots: 0 };
 window.billiards = diagnostics;
+const sounds = new TableSounds();
+diagnostics.sound = () => sounds.stats();
 
 /** Where each ball stands when a shot starts: its first segment's position. */
 function startPositions(trajectory) {
@@ -57,6 +60,7 @@ class ReplayPage {
       diagnostics.shots = this.shots.length;
       this.listShot(this.shots.length - 1);
     }
+    if (this.shotWords) this.sayShot(this.shotWords.i, this.shotWords.words);
     const next = this.current < 0 ? this.startAt : this.current + 1;
     if (this.playing && !this.animation && next < this.shots.length) this.show(next);
   }
@@ -80,10 +84,11 @@ class ReplayPage {
     this.animation?.stop();
     this.current = i;
     const shot = this.shots[i];
-    this.say(`Shot ${i + 1} of ${this.shots.length}: ${playerName(this.view, shot.seat)} plays.`);
+    this.sayShot(i, `${playerName(this.view, shot.seat)} plays.`);
     this.animation = new Animation(this.view3d, shot.trajectory, {
       speed: this.speed,
       onDone: () => this.finished(i),
+      onEvent: (type, speed) => sounds.play(type, speed),
     });
     this.animation.paused = !this.playing;
     // The aim view looks along the shot, from behind the ball struck.
@@ -98,9 +103,15 @@ class ReplayPage {
     const shot = this.shots[i];
     this.animation = null;
     this.view3d.setBalls(shot.rest);
-    this.say(`Shot ${i + 1} of ${this.shots.length}: ${decisionWords(this.view, shot.decision)}`);
+    this.sayShot(i, decisionWords(this.view, shot.decision));
     diagnostics.shown = i;
     if (this.playing && i + 1 < this.shots.length) setTimeout(() => this.current === i && !this.animation && this.show(i + 1), 600 / this.speed);
+  }
+
+  /** "Shot i of n: words", said again with the new count as more shots come in. */
+  sayShot(i, words) {
+    this.shotWords = { i, words };
+    this.say(`Shot ${i + 1} of ${this.shots.length}: ${words}`);
   }
 
   say(text) {
@@ -108,6 +119,7 @@ class ReplayPage {
   }
 
   bind() {
+    sounds.bindToggle($("sound"));
     $("pause").addEventListener("click", () => {
       this.playing = !this.playing;
       $("pause").textContent = this.playing ? "Pause" : "Play";

@@ -21,11 +21,12 @@ function onTheEight(state) {
   return !Object.keys(state.balls).some((b) => group(b) && (mine === null || group(b) === mine));
 }
 
-function select(name, label, options, blank) {
+function select(name, label, options, blank, required = false) {
   const wrap = document.createElement("label");
   wrap.textContent = `${label} `;
   const el = document.createElement("select");
   el.name = name;
+  el.required = required;
   if (blank) el.append(new Option(blank, ""));
   for (const o of options) el.append(new Option(words(o), o));
   wrap.append(el);
@@ -41,12 +42,20 @@ export function showExtras(box, v) {
     wrap.append(box_, document.createTextNode(" Push out"));
     items.push(wrap);
   }
-  if (v?.game === "eightball" && onTheEight(v.state)) items.push(select("call", "Pocket for the 8", POCKETS));
+  if (v?.game === "eightball" && onTheEight(v.state)) {
+    items.push(select("call", "Pocket for the 8", POCKETS, "(call a pocket)", true));
+  }
   if (v?.game === "snooker" && (v.state.free_ball || v.state.on === "colour")) {
     const balls = v.state.free_ball ? Object.keys(v.state.balls).filter((b) => b !== "cue") : COLOURS.filter((c) => c in v.state.balls);
     items.push(select("nominate", v.state.free_ball ? "Free ball" : "Nominate", balls, "(the first ball hit)"));
   }
   box.replaceChildren(...items);
+}
+
+/** The first extra the shot needs but has not been given ({input, words}), or null. */
+export function missingExtra(box) {
+  const input = [...box.querySelectorAll("select")].find((el) => el.required && !el.value);
+  return input ? { input, words: `${input.parentElement.firstChild.textContent.trim()}: choose one before the shot.` } : null;
 }
 
 /** The extras chosen, as fields of the shot. */

@@ -57,6 +57,13 @@ export function decisionWords(view, d) {
   return out.join(" ");
 }
 
+/** An outcome's words (its decision's), after why the server played it if it did: the shot id
+ *  `clock-<version>` is the stroke played for a seat whose shot clock ran out. */
+export function outcomeWords(view, outcome) {
+  const clock = outcome.shot_id?.startsWith("clock-") ? `${seatName(view, outcome.seat)}'s shot clock ran out. ` : "";
+  return clock + decisionWords(view, outcome.decision);
+}
+
 /** Who acts next and how, in words ("Ada to shoot, ball in hand behind the head string."). */
 export function nextWords(view) {
   if (view.status === "open") return "Waiting for an opponent.";

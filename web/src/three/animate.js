@@ -1,8 +1,9 @@
 // Plays a shot's trajectory on a TableView at the display's frame rate: every frame evaluates
 // each ball's polynomial segment at the shot's clock and turns the ball by the spin it had
-// meanwhile. A pocketed ball sinks into its pocket's hole and disappears.
+// meanwhile. A pocketed ball sinks into its pocket's hole and disappears. Each event the clock
+// passes while playing is handed to `onEvent` (the sounds).
 import * as THREE from "three";
-import { pocketedAt, positionAt, rotationBetween } from "../lib/trajectory.js";
+import { eventSpeed, pocketedAt, positionAt, rotationBetween } from "../lib/trajectory.js";
 
 /** How long a pocketed ball takes to drop out of sight (s of shot time). */
 const DROP_TIME = 0.18;
@@ -10,13 +11,17 @@ const DROP_TIME = 0.18;
 export class Animation {
   /**
    * view: the TableView; trajectory: {duration, events, balls: {id: [segment, ...]}};
-   * onDone: called once when the shot has played to its end (not when stopped).
+   * onDone: called once when the shot has played to its end (not when stopped);
+   * onEvent(type, speed): each event as the clock reaches it while playing, with how hard it
+   * struck (m/s, lib/trajectory.js eventSpeed).
    */
-  constructor(view, trajectory, { speed = 1, onDone = () => {} } = {}) {
+  constructor(view, trajectory, { speed = 1, onDone = () => {}, onEvent = () => {} } = {}) {
     this.view = view;
     this.trajectory = trajectory;
     this.speed = speed;
     this.onDone = onDone;
+    this.onEvent = onEvent;
+    this.nextEvent = 0; // the first event the clock has not yet reached
     this.time = 0;
     this.paused = false;
     this.last = null;
@@ -64,6 +69,11 @@ export class Animation {
     const dt = this.last === null || this.paused ? 0 : ((now - this.last) / 1000) * this.speed;
     this.last = now;
     this.seek(Math.min(this.trajectory.duration, this.time + dt));
+    const { events, balls } = this.trajectory;
+    while (this.nextEvent < events.length && events[this.nextEvent].t <= this.time) {
+      const e = events[this.nextEvent++];
+      this.onEvent(e.type, eventSpeed(balls, e));
+    }
     if (this.time >= this.trajectory.duration) {
       this.stop();
       this.onDone();
@@ -74,6 +84,10 @@ export class Animation {
   seek(t) {
     const { view } = this;
     const from = t >= this.time ? this.time : 0;
+    if (t < this.time) {
+      const next = this.trajectory.events.findIndex((e) => e.t > t); // back: silent until then
+      this.nextEvent = next < 0 ? this.trajectory.events.length : next;
+    }
     const R = view.table.R;
     for (const [id, segments] of Object.entries(this.trajectory.balls)) {
       const mesh = view.balls.get(id);

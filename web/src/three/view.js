@@ -14,6 +14,35 @@ const CUE_DRAW = 0.22;
 /** Frame interval (ms) above which the resolution is lowered, and the lowest scale. */
 const SLOW_FRAME_MS = 40;
 const MIN_SCALE = 0.4;
+/** Renderers that run WebGL on the CPU. */
+const SOFTWARE = /swiftshader|llvmpipe|softpipe|software|basic render/i;
+
+/** Whether WebGL here is drawn by the CPU (SwiftShader, llvmpipe, ...), by the renderer's name. */
+export function softwareRenderer() {
+  const gl = document.createElement("canvas").getContext("webgl2");
+  if (!gl) return false;
+  const info = gl.getExtension("WEBGL_debug_renderer_info");
+  const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+  gl.getExtension("WEBGL_lose_context")?.loseContext();
+  return SOFTWARE.test(name);
+}
+
+/** Cheaper stand-ins for the physically based materials, for a software renderer: Phong where
+ *  the surface shines (balls, rails, cue), Lambert elsewhere (cloth, cushions). */
+function simplerMaterials(root) {
+  const swapped = new Map();
+  root.traverse((object) => {
+    const m = object.material;
+    if (!m?.isMeshStandardMaterial) return;
+    if (!swapped.has(m)) {
+      const { color, map } = m;
+      const simple = m.roughness < 0.5 ? new THREE.MeshPhongMaterial({ color, map, shininess: 80 * (1 - m.roughness) ** 2 }) : new THREE.MeshLambertMaterial({ color, map });
+      swapped.set(m, simple);
+      m.dispose();
+    }
+    object.material = swapped.get(m);
+  });
+}
 
 function makeCue() {
   const group = new THREE.Group();
@@ -45,11 +74,14 @@ export class TableView {
     this.table = table;
     this.game = game;
     this.frame = frame(table);
-    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
-    this.pixelRatio = Math.min(window.devicePixelRatio || 1, 2);
+    // On a software renderer every pixel is drawn by the CPU: no multisampling, one pixel per
+    // CSS pixel, no shadow map (a soft disc under each ball instead), simpler shading.
+    this.software = softwareRenderer();
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: !this.software, preserveDrawingBuffer: true });
+    this.pixelRatio = this.software ? 1 : Math.min(window.devicePixelRatio || 1, 2);
     this.scale = 1; // lowered by `adapt` on a device too slow for the full resolution
     this.renderer.setPixelRatio(this.pixelRatio);
-    this.renderer.shadowMap.enabled = true;
+    this.renderer.shadowMap.enabled = !this.software;
     this.renderer.shadowMap.type = THREE.PCFShadowMap;
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0x15171c);
@@ -68,6 +100,7 @@ export class TableView {
     this.cue = makeCue();
     this.scene.add(this.cue);
     this.addAimMarks();
+    if (this.software) simplerMaterials(this.scene);
     this.heading = 90;
     this.aim = { heading: 90, elevation: 0, a: 0, b: 0, power: 0 };
     new ResizeObserver(() => this.resize()).observe(canvas);
@@ -114,12 +147,53 @@ export class TableView {
       for (const [id, mesh] of makeBalls(this.game, missing, this.table.R)) {
         this.balls.set(id, mesh);
         this.scene.add(mesh);
+        if (this.software) {
+          simplerMaterials(mesh);
+          this.addBlob(mesh);
+        }
       }
     }
     for (const [id, mesh] of this.balls) {
       const p = balls[id];
       mesh.visible = Boolean(p);
       if (p) mesh.position.copy(this.frame.toWorld(p[0], p[1], this.table.R));
+    }
+    this.invalidate();
+  }
+
+  /** A soft dark disc on the cloth under `ball`, in place of its shadow (placed in `draw`). */
+  addBlob(ball) {
+    this.blobs ??= [];
+    this.blobTexture ??= blobTexture();
+    const material = new THREE.MeshBasicMaterial({ map: this.blobTexture, transparent: true, depthWrite: false });
+    const blob = new THREE.Mesh(new THREE.PlaneGeometry(3 * this.table.R, 3 * this.table.R), material);
+    blob.rotation.x = -Math.PI / 2;
+    this.scene.add(blob);
+    this.blobs.push([ball, blob]);
+  }
+
+  placeBlobs() {
+    const R = this.table.R;
+    for (const [ball, blob] of this.blobs ?? []) {
+      blob.visible = ball.visible && ball.position.y > 0;
+      blob.position.set(ball.position.x - 0.15 * R, ball.position.y - R + 0.001, ball.position.z - 0.3 * R);
+    }
+  }
+
+  /** Ring pocket `name` (a called pocket), or no pocket (null). */
+  markPocket(name) {
+    const pocket = this.table.pockets.find((p) => p.name === name);
+    if (!this.pocketMark) {
+      const material = new THREE.MeshBasicMaterial({ color: 0xe8b04a, transparent: true, opacity: 0.9, depthTest: false });
+      this.pocketMark = new THREE.Mesh(new THREE.RingGeometry(1, 1.25, 40), material);
+      this.pocketMark.rotation.x = -Math.PI / 2;
+      this.pocketMark.renderOrder = 1; // over the cushions that hide part of it
+      this.scene.add(this.pocketMark);
+    }
+    this.pocketMark.visible = Boolean(pocket);
+    if (pocket) {
+      this.pocketMark.scale.setScalar(pocket.radius);
+      this.pocketMark.position.copy(this.frame.toWorld(pocket.center[0], pocket.center[1], 0.004));
     }
     this.invalidate();
   }
@@ -287,6 +361,7 @@ export class TableView {
     for (const hook of this.frameHooks) hook(now);
     this.placeAimMarks();
     this.placeCamera();
+    this.placeBlobs();
     this.renderer.render(this.scene, this.camera);
     // The main thread's cost of an animation frame (evaluation, scene update, WebGL calls).
     if (animating) {
@@ -336,4 +411,17 @@ export class TableView {
     const hit = new THREE.Vector3();
     return ray.ray.intersectPlane(plane, hit) ? this.frame.toTable(hit) : null;
   }
+}
+
+/** A radial fade from translucent black to nothing: the blob shadow's texture. */
+function blobTexture() {
+  const canvas = document.createElement("canvas");
+  canvas.width = canvas.height = 64;
+  const ctx = canvas.getContext("2d");
+  const g = ctx.createRadialGradient(32, 32, 4, 32, 32, 32);
+  g.addColorStop(0, "rgba(0, 0, 0, 0.55)");
+  g.addColorStop(1, "rgba(0, 0, 0, 0)");
+  ctx.fillStyle = g;
+  ctx.fillRect(0, 0, 64, 64);
+  return new THREE.CanvasTexture(canvas);
 }
