@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import asyncio
+import sqlite3
 import time
+from pathlib import Path
 
 import pytest
 
@@ -12,6 +14,7 @@ from server.api_models import BreakEntry, Source, Status
 from server.match import rate
 from server.ratings import Rating
 from server.storage import AcceptResult, RateResult, Storage
+from server.storage.sqlite import SCHEMA, SqliteStorage
 from server.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
 
@@ -278,3 +281,24 @@ async def test_expiry_is_bounded_per_call_and_earliest_first(storage: Storage) -
     assert first == [r.id for r in records[:3]]
     assert await storage.expire_tables(later, 3) == [r.id for r in records[3:]]
     assert await storage.expire_tables(later, 3) == []
+
+
+async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Path) -> None:
+    """A SQLite file written before invariant 12 opens, and its tables expire KEEP_IDLE after
+    they were created (or as their next change says)."""
+    path = tmp_path / "old.sqlite3"
+    old_schema = SCHEMA.replace(",\n    expires REAL", "")
+    assert old_schema != SCHEMA
+    record = a_table()
+    with sqlite3.connect(path) as db:
+        db.executescript(old_schema)
+        row = (record.id, 0, "", 1, record.created, None, record.model_dump_json())
+        db.execute("INSERT INTO tables VALUES (?, ?, ?, ?, ?, ?, ?)", row)
+    db.close()
+    storage = await SqliteStorage.open(path)
+    try:
+        assert await storage.get_table(record.id) == record
+        assert await storage.expire_tables(record.created + KEEP_IDLE - 1, 10) == []
+        assert await storage.expire_tables(record.created + KEEP_IDLE, 10) == [record.id]
+    finally:
+        await storage.close()
