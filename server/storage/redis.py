@@ -273,8 +273,8 @@ class RedisStorage(Storage):
 
     async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
         start, end = await self._redis.hmget(f"{P}rs:{table_id}", [str(rack), str(rack + 1)])
-        if start is None:
-            return []
+        if start is None:  # nothing logged in this rack, or logged before racks' starts were
+            return [e for e in await self.inputs(table_id) if e.rack == rack]
         stop = -1 if end is None else int(end) - 1
         shot_ids = await self._redis.lrange(f"{P}l:{table_id}", int(start), stop)
         if not shot_ids:
