@@ -92,5 +92,18 @@ def conclude_rack(
         notes=notes,
         ball_in_hand=bih,
         winner=winner,
+        **visit_after(state, len(facts.pocketed), bool(fouls), nxt),
         **fields,
     )
+
+
+def visit_after(state: State, pocketed: int, fouled: bool, next_player: int) -> dict[str, object]:
+    """The `visit` and `best` fields after a pool shot: a visit counts the balls pocketed on
+    the shots of one player's turn at the table (the break included), a foul scores nothing
+    and ends it, and it ends when the turn passes; `best` is each player's highest visit (the
+    leaderboard's nine-ball and eight-ball break)."""
+    me = state.turn
+    visit = 0 if fouled else state.visit + pocketed
+    best = list(state.best)
+    best[me] = max(best[me], visit)
+    return {"visit": visit if next_player == me and not fouled else 0, "best": tuple(best)}

@@ -50,9 +50,11 @@ class State(BaseModel):
         or racks won in pool, points in snooker and three-cushion. ball_in_hand: the region the
         player to shoot may place the cue ball in, if any. foul_streak: consecutive fouls per
         player (nine-ball's three-foul rule). shots: strokes played so far (0 = the break). visit:
-        points scored in the current visit (snooker's break, three-cushion's run). best: the
-        highest visit of each player. pending: options the player to act must choose from
-        before anyone shoots. over / winner: the end of the game.
+        what the player at the table has made in the current visit (snooker's break in points,
+        three-cushion's run in points, nine-ball's and eight-ball's balls pocketed without a
+        foul). best: the highest visit of each player (the leaderboard's break). pending:
+        options the player to act must choose from before anyone shoots. over / winner: the
+        end of the game.
 
     Game-specific: groups (eight-ball, per player); on (snooker's ball on: "red", "colour" or
     a colour's name); free_ball (snooker: the player to shoot may nominate a free ball);

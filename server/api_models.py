@@ -14,7 +14,7 @@ from annotated_types import Interval
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
 from server.errors import ErrorCode
-from server.refereeing import Decision, GameName, GameRecord, PlayerInput, Region, State
+from server.refereeing import Decision, GameName, GameRecord, Option, PlayerInput, Region, State
 from server.trajectories import Trajectory
 
 #: The format version of channel messages; bumped when a client must change to read them.
@@ -159,8 +159,42 @@ class TableCreate(BaseModel):
         return TableOptions(race_to=self.race_to, shot_clock=self.shot_clock, private=self.private)
 
 
+class ShotRules(BaseModel):
+    """What a shot sent now must or may carry, as the game's referee allows it in this state
+    (a shot that breaks one of these is refused with `illegal_input` and its rule code)."""
+
+    model_config = _ANSWER
+
+    place: Region | None = Field(
+        default=None,
+        description="ball in hand: the region the shot's `place` may put the cue ball in "
+        "(kitchen: behind the head string; D: snooker's D); null: `place` is refused",
+    )
+    place_required: bool = Field(
+        default=False, description="the cue ball is off the table: `place` is required"
+    )
+    targets: list[str] = Field(
+        default=[], description="the balls the cue ball may legally hit first, as they lie"
+    )
+    push_out: bool = Field(
+        default=False,
+        description="`push_out: true` may be declared (nine-ball, the shot after the break)",
+    )
+    call: list[str] = Field(
+        default=[],
+        description="when not empty, `call` is required and must name one of these pockets "
+        "(eight-ball, shooting at the 8); when empty, `call` must be absent",
+    )
+    nominate: list[str] = Field(
+        default=[],
+        description="the balls `nominate` may name (snooker: the free ball after a foul, or "
+        "the colour after a red; optional); empty: no nomination",
+    )
+
+
 class Constraints(BaseModel):
-    """What the seat to act may send now."""
+    """What the seat to act may send now: a choice of `options` (when not empty), otherwise a
+    shot of `cue_ball` carrying what `shot` says."""
 
     model_config = _ANSWER
 
@@ -169,8 +203,15 @@ class Constraints(BaseModel):
     kinds: list[InputKind]
     cue_ball: str
     ball_in_hand: Region | None = None
-    options: list[str] = []
+    options: list[Option] = Field(
+        default=[],
+        description="choices pending (play_on, play_again, replace): the input must be "
+        "`{option}` with one of them",
+    )
     deadline: float | None = Field(default=None, description="unix time the shot clock ends")
+    shot: ShotRules | None = Field(
+        default=None, description="what a shot must or may carry (null while a choice is pending)"
+    )
 
 
 class TableSummary(BaseModel):

@@ -13,7 +13,7 @@ from aiohttp import web
 from pydantic import BaseModel, ConfigDict, Field
 
 from server.api import mount_api
-from server.relay.backend import Backend
+from server.relay.backend import Backend, BackendConfig
 from server.relay.memory import MemoryBackend
 from server.relay.relay import Relay
 from server.relay.routes import mount_relay
@@ -21,13 +21,26 @@ from server.relay.settings import RelaySettings
 from server.tables import GRACE
 from server.web import mount_web
 
+#: The buffer of every channel the game service uses: the relay's 100 messages, and at most
+#: 4 MiB of their data. A table channel's outcomes carry trajectories (an eight-ball break's is
+#: some 40 KB, a long snooker visit's far more), so a count alone would let one table hold 100
+#: of the largest; 4 MiB is still several racks of outcomes. A client resuming from further
+#: back is told of the gap and fetches the table's state (docs/protocol.md).
+SERVICE_BUFFER = BackendConfig(buffer_bytes=4 * 1024 * 1024)
+
+
+def relay_settings(**fields: object) -> RelaySettings:
+    """The relay configuration the game service runs with: the relay's defaults, each
+    channel's backlog bounded by SERVICE_BUFFER."""
+    return RelaySettings(buffer=SERVICE_BUFFER, **fields)
+
 
 class AppSettings(BaseModel):
     """The server's configuration, immutable and passed in."""
 
     model_config = ConfigDict(frozen=True)
 
-    relay: RelaySettings = Field(default_factory=RelaySettings)
+    relay: RelaySettings = Field(default_factory=relay_settings)
     redis_url: str | None = Field(default=None, description="Redis backend; None: in memory")
     database: str | None = Field(
         default=None, description="SQLite file of the game service (without Redis); None: memory"

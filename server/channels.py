@@ -29,6 +29,10 @@ class Publisher:
     async def publish(self, channel: str, message: BaseModel) -> Published:
         return await self.relay.backend.publish(channel, message.model_dump_json().encode(), JSON)
 
+    async def delete(self, channel: str) -> None:
+        """Delete a channel and its buffer on every replica (its subscribers are closed)."""
+        await self.relay.backend.delete(channel)
+
     async def subscribers(self, channel: str) -> int:
         """Subscribers of `channel` on every replica (the relay's global count)."""
         info = await self.relay.backend.info(channel)

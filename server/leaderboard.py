@@ -11,9 +11,9 @@ Breaks enter two ways:
   refused claim stores nothing and says why.
 
 What a break is: snooker's points in one visit and three-cushion's run as the referees count
-them, and in nine-ball and eight-ball the balls pocketed in one visit without a foul
-(`refereeing.best_visits`). After each new entry the game's top breaks are published on the
-`public-leaderboard` channel.
+them, and in nine-ball and eight-ball the balls pocketed in one visit without a foul: each
+player's `State.best`, which the referees keep. After each new entry the game's top breaks
+are published on the `public-leaderboard` channel.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from server.api_models import (
 )
 from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
-from server.refereeing import Decision, PlayerInput, State
+from server.refereeing import PlayerInput, State
 from server.replays import new_replay_id, rack_replay, record_refused, replay_url
 from server.storage import Storage
 from server.tables import TableRecord
@@ -69,15 +69,14 @@ class Breaks:
         self,
         record: TableRecord,
         played: list[tuple[PlayerInput, State]],
-        decisions: list[Decision | None],
     ) -> ReplayView:
         """Store the rack's replay and its players' best breaks (once per rack and seat).
 
         played: each input of the rack that was played (void ones left out), with the state it
-        led to; decisions: the referee's decision on each."""
+        led to (the last one's `best` is each player's best break of the rack)."""
         setup = refereeing.rack_setup(record.game, record.seed + record.rack, record.breaker)
         game_record = refereeing.rack_record(setup, played)
-        replay, best = rack_replay(record, game_record, decisions, played[-1][1])
+        replay, best = rack_replay(record, game_record, played[-1][1])
         await self._storage.add_replay(replay)
         source = Source.PRACTICE if record.mode is Mode.PRACTICE else Source.MATCH
         if record.mode is Mode.PRACTICE:  # one person played every visit

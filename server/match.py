@@ -48,7 +48,7 @@ from server.channels import Publisher
 from server.errors import ErrorCode, ServiceError
 from server.leaderboard import Breaks
 from server.ratings import Rating
-from server.storage import AcceptResult, Storage
+from server.storage import AcceptResult, RateResult, Storage
 from server.tables import InputEntry, TableRecord
 from server.workers import WorkerPool
 
@@ -60,6 +60,9 @@ LEASE = 15.0
 PENDING_POLL = 0.02
 #: Compare-and-set attempts before a busy table answers `unavailable`.
 CAS_TRIES = 5
+#: Rating attempts of one match while other matches of its players keep being rated first
+#: (each conflict means another rating landed, so this is only reached under a storm).
+RATE_TRIES = 20
 
 Job = Callable[[], Awaitable[None]]
 Change = Callable[[TableRecord], TableRecord]
@@ -224,12 +227,11 @@ class MatchOwner:
         """Store the finished rack's replay and breaks; its replay id."""
         earlier = [
             e.outcome
-            for e in await self._context.storage.inputs(record.id)
-            if e.rack == record.rack and e.outcome is not None and e.outcome.void is None
+            for e in await self._context.storage.rack_inputs(record.id, record.rack)
+            if e.outcome is not None and e.outcome.void is None
         ]
         played = [(o.input, o.state) for o in earlier] + [(last.input, result.state)]
-        decisions = [o.decision for o in earlier] + [result.decision]
-        replay = await self._context.breaks.rack_finished(record, played, decisions)
+        replay = await self._context.breaks.rack_finished(record, played)
         return replay.id
 
     async def _status_changed(self, before: TableRecord, after: TableRecord) -> None:
@@ -240,15 +242,8 @@ class MatchOwner:
         if not decided or after.mode is not Mode.MATCH or after.winner is None:
             return
         people = [p for p in after.seats if p is not None and not tables.is_bot(p)]
-        if len(people) != 2:
-            return
-        storage = self._context.storage
-        current = [(await storage.ratings(p.id)).get(after.game, Rating()) for p in people]
-        winner = after.winner
-        won, lost = ratings.after_match(current[winner], current[1 - winner])
-        await storage.rate(
-            after.id, after.game, {people[winner].id: won, people[1 - winner].id: lost}
-        )
+        if len(people) == 2:
+            await rate(self._context.storage, after, people)
 
     async def _change(self, change: Change, done: asyncio.Future) -> None:
         try:
@@ -303,6 +298,21 @@ class MatchOwner:
         await self._play_quietly(occupant, intent, on_time=True)
 
 
+async def rate(storage: Storage, record: TableRecord, people: list[PlayerInfo]) -> None:
+    """Rate a decided match between two people: read both ratings, compute, store with the
+    storage's compare-and-set (invariant 9), and on a conflict (another match of one of them
+    was rated meanwhile, perhaps on another replica) read and compute again."""
+    winner = record.winner
+    assert winner is not None
+    for _ in range(RATE_TRIES):
+        current = [(await storage.ratings(p.id)).get(record.game, Rating()) for p in people]
+        won, lost = ratings.after_match(current[winner], current[1 - winner])
+        new = {people[winner].id: won, people[1 - winner].id: lost}
+        if await storage.rate(record.id, record.game, new) is not RateResult.CONFLICT:
+            return
+    log.error("table %s: not rated after %d conflicts", record.id, RATE_TRIES)
+
+
 def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEntry:
     """The entry to store for `intent` from `player`; ServiceError if it may not be played."""
     seat = tables.seat_of(record, player.id)
@@ -318,7 +328,7 @@ def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEn
             ErrorCode.STALE_VERSION,
             f"the table is at version {record.version}, not {intent.version}: resync",
         )
-    options, *_ = refereeing.constraints(record.state)
+    options = refereeing.constraints(record.state).choices
     if bool(options) != isinstance(intent.input, refereeing.Choice):
         wanted = "a choice of " + " / ".join(options) if options else "a shot"
         raise ServiceError(ErrorCode.WRONG_PHASE, f"send {wanted}")

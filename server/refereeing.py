@@ -18,7 +18,7 @@ from rules.bot.chooser import chooser
 from rules.codes import RuleError
 from rules.game import Setup, play, start
 from rules.game import check as rules_check
-from rules.inputs import Choice, PlayerInput, Shot, accept
+from rules.inputs import Choice, Option, PlayerInput, Shot, accept
 from rules.racks import Game as GameName
 from rules.record import GameRecord, replay
 from rules.referee import allowed
@@ -38,6 +38,8 @@ __all__ = [
     "Decision",
     "GameName",
     "GameRecord",
+    "Next",
+    "Option",
     "PlayerInput",
     "Refereed",
     "Region",
@@ -46,10 +48,10 @@ __all__ = [
     "Shot",
     "State",
     "bot_input",
-    "breaker_of",
     "check",
     "constraints",
     "new_rack",
+    "next_breaker",
     "referee",
     "replay_record",
     "rule_code",
@@ -72,16 +74,17 @@ class Refereed:
     void: str | None = None
 
 
-def breaker_of(game: GameName, breaker: int) -> int:
-    """Who really breaks when `breaker` should: in three-cushion each player's cue ball is
-    fixed by the rack (the breaker's white), so the rules' player 0 always breaks there."""
-    return 0 if game is GameName.THREE_CUSHION else breaker
+def next_breaker(game: GameName, breaker: int) -> int:
+    """Who breaks the rack after one `breaker` broke: the other player, except in
+    three-cushion, where each player's cue ball is fixed by the rack (the breaker's white), so
+    the rules' player 0 always breaks. The one place a match's breaks are mapped."""
+    return 0 if game is GameName.THREE_CUSHION else 1 - breaker
 
 
 def rack_setup(game: GameName, seed: int, breaker: int) -> Setup:
     """The rules' setup of a rack whose break goes to seat `breaker` (seats are the referee's
     players, and a setup names its breaker)."""
-    return Setup(game=game, seed=seed, breaker=breaker_of(game, breaker))
+    return Setup(game=game, seed=seed, breaker=breaker)
 
 
 def new_rack(game: GameName, seed: int, breaker: int) -> State:
@@ -105,11 +108,41 @@ def rule_code(error: RuleError) -> str | None:
     return None if code is None else str(getattr(code, "value", code))
 
 
-def constraints(state: State) -> tuple[list[str], str, Region | None]:
-    """(options pending, cue ball, ball-in-hand region) for the player to act in `state`:
-    with options pending the player must choose one, otherwise it shoots."""
+@dataclass(frozen=True, slots=True)
+class Next:
+    """What the player to act in a state must or may send, as its referee allows it
+    (`rules.referee.allowed`), in the order the wire shows it.
+
+    choices: when not empty, the player must send one of these and cannot shoot. Otherwise a
+    shot: of the `cue` ball, placed in `ball_in_hand` if given (required when `place_required`:
+    the cue ball is off the table), first hitting one of `targets`; it may declare a push-out
+    if `push_out`, must call one of `call` when that is not empty (and nothing otherwise), and
+    may nominate one of `nominate`.
+    """
+
+    choices: tuple[Option, ...]
+    cue: str
+    ball_in_hand: Region | None
+    place_required: bool
+    targets: tuple[str, ...]
+    push_out: bool
+    call: tuple[str, ...]
+    nominate: tuple[str, ...]
+
+
+def constraints(state: State) -> Next:
+    """What the player to act in `state` must or may send next (see `Next`)."""
     now = allowed(state)
-    return list(now.choices), now.cue, now.ball_in_hand
+    return Next(
+        choices=now.choices,
+        cue=now.cue,
+        ball_in_hand=now.ball_in_hand,
+        place_required=now.cue not in state.balls,
+        targets=tuple(sorted(now.targets)),
+        push_out=now.options.push_out,
+        call=now.options.call,
+        nominate=tuple(sorted(now.options.nominate)),
+    )
 
 
 def referee(state: State, action: PlayerInput) -> Refereed:
@@ -159,27 +192,11 @@ def rack_record(setup: Setup, played: list[tuple[PlayerInput, State]]) -> GameRe
     return record
 
 
-def best_visits(game: GameName, decisions: list[Decision | None], final: State) -> tuple[int, int]:
-    """Each player's best break of a rack: snooker's break and three-cushion's run as the
-    referee counts them (`State.best`), pool's balls pocketed in one visit without a foul."""
-    if game in ("snooker", "three_cushion"):
-        return final.best
-    best, visit, visitor = [0, 0], 0, None
-    for decision in decisions:
-        if decision is None:
-            continue
-        if decision.player != visitor:
-            visit, visitor = 0, decision.player
-        visit = 0 if decision.fouls else visit + len(decision.pocketed)
-        best[visitor] = max(best[visitor], visit)
-        if decision.next_player != visitor or decision.fouls:
-            visitor = None
-    return best[0], best[1]
-
-
 @dataclass(frozen=True, slots=True)
 class Verified:
-    """A replayed record: its game, each player's best break, and its inputs."""
+    """A replayed record: its game, each player's best break (the referee's `State.best`:
+    snooker's break, three-cushion's run, pool's balls pocketed in one visit without a foul),
+    and its inputs."""
 
     game: GameName
     best: tuple[int, int]
@@ -199,9 +216,7 @@ def verify(record_json: bytes) -> Verified:
     """
     record = GameRecord.from_json(record_json)
     played = replay(record)
-    decisions = [step.decision for step in played.steps]
-    best = best_visits(record.setup.game, decisions, played.final)
-    return Verified(game=record.setup.game, best=best, inputs=len(record.inputs))
+    return Verified(game=record.setup.game, best=played.final.best, inputs=len(record.inputs))
 
 
 @dataclass(frozen=True, slots=True)

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 from server import refereeing
 from server.api_models import ReplayShot, ReplayShots, ReplayView
 from server.errors import ErrorCode, ServiceError
-from server.refereeing import Decision, GameRecord, State
+from server.refereeing import GameRecord, State
 from server.storage import Storage
 from server.tables import TableRecord
 
@@ -54,12 +54,11 @@ def replay_url(replay_id: str) -> str:
 def rack_replay(
     record: TableRecord,
     game_record: GameRecord,
-    decisions: list[Decision | None],
     final: State,
 ) -> tuple[ReplayView, tuple[int, int]]:
     """The replay of a finished rack (`game_record`: its inputs as the rules record them, from
-    `refereeing.rack_record`), and each seat's best break in it."""
-    best = refereeing.best_visits(record.game, decisions, final)
+    `refereeing.rack_record`), and each seat's best break in it (the referee's `final.best`)."""
+    best = final.best
     replay_id = new_replay_id()
     view = ReplayView(
         id=replay_id,

@@ -31,14 +31,13 @@ def new_event_loop(use_uvloop: bool) -> asyncio.AbstractEventLoop:
 def _serve(args: argparse.Namespace) -> int:
     from aiohttp import web
 
-    from server.app import AppSettings, create_app
-    from server.relay.settings import RelaySettings
+    from server.app import AppSettings, create_app, relay_settings
     from server.storage.sqlite import token_key
 
     secret = os.environ.get("BILLIARDS_RELAY_SECRET")
     if secret is None and args.redis is None:
         secret = token_key(args.db)
-    relay = RelaySettings(auth_secret=secret)
+    relay = relay_settings(auth_secret=secret)
     grace = {} if args.grace is None else {"grace": args.grace}
     settings = AppSettings(
         relay=relay, redis_url=args.redis, database=args.db, workers=args.workers, **grace

@@ -16,6 +16,7 @@ from server.api_models import PresenceMessage
 from server.channels import Publisher
 from server.clock import running_clock
 from server.errors import ErrorCode, ServiceError
+from server.expiry import running_expiry
 from server.identity import Identity
 from server.leaderboard import Breaks
 from server.lobby import Lobby
@@ -103,7 +104,11 @@ async def running_service(
         grace=grace,
     )
     try:
-        async with lobby.running(), running_clock(storage, service.matches):
+        async with (
+            lobby.running(),
+            running_clock(storage, service.matches),
+            running_expiry(storage, publisher, lambda table: service.presence.pop(table, None)),
+        ):
             yield service
             await service.matches.idle()
     finally:

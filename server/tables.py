@@ -20,6 +20,7 @@ from server.api_models import (
     Mode,
     OutcomeMessage,
     PlayerInfo,
+    ShotRules,
     Status,
     TableCreate,
     TableOptions,
@@ -33,6 +34,13 @@ from server.refereeing import GameName, PlayerInput, State
 PRESENCE_TIMEOUT = 10.0
 #: How long a disconnected player may stay away before the opponent may claim the win (s).
 GRACE = 60.0
+#: How long the live store keeps a finished table (over or cancelled) after its last change
+#: (s): its state, inputs and rematch link stay readable that long. Its racks' replays and
+#: breaks are in the replay store (storage: replays, breaks), which keeps them for good.
+KEEP_FINISHED = 24 * 3600.0
+#: How long the live store keeps an unfinished table that nobody changes (s): an open table
+#: nobody joins, a match both players left (a shot clock's timeouts count as changes).
+KEEP_IDLE = 7 * 24 * 3600.0
 
 
 class InputEntry(BaseModel):
@@ -75,10 +83,21 @@ class TableRecord(BaseModel):
     rematch: tuple[bool, bool] = (False, False)
     rematch_table: str | None = None
     created: float
+    updated: float = Field(default=0.0, description="unix time of the last stored change")
 
     @property
     def channel(self) -> str:
         return channel_of(self.id)
+
+    @property
+    def finished(self) -> bool:
+        return self.status in (Status.OVER, Status.CANCELLED)
+
+    @property
+    def expires(self) -> float:
+        """When the live store may drop this table (storage invariant 12)."""
+        keep = KEEP_FINISHED if self.finished else KEEP_IDLE
+        return max(self.created, self.updated) + keep
 
     @property
     def listed(self) -> bool:
@@ -144,7 +163,8 @@ def bump(record: TableRecord, **changes: object) -> TableRecord:
 
     Every new version restarts the shot clock of the seat then to act (server/clock.py).
     """
-    after = record.model_copy(update={**changes, "version": record.version + 1})
+    update = {**changes, "version": record.version + 1, "updated": time.time()}
+    after = record.model_copy(update=update)
     return after.model_copy(update={"deadline": next_deadline(after)})
 
 
@@ -162,19 +182,31 @@ def acting_seat(record: TableRecord) -> int | None:
 
 
 def constraints(record: TableRecord) -> Constraints | None:
+    """What the seat to act may send next, from its referee (None: nobody may act)."""
     seat = acting_seat(record)
     if seat is None:
         return None
-    options, cue, region = refereeing.constraints(record.state)
+    now = refereeing.constraints(record.state)
     occupant = record.seats[seat]
+    shot = None
+    if not now.choices:
+        shot = ShotRules(
+            place=now.ball_in_hand,
+            place_required=now.place_required,
+            targets=list(now.targets),
+            push_out=now.push_out,
+            call=list(now.call),
+            nominate=list(now.nominate),
+        )
     return Constraints(
         seat=seat,
         player=occupant.id if occupant else None,
-        kinds=[InputKind.CHOICE if options else InputKind.SHOT],
-        cue_ball=cue,
-        ball_in_hand=region,
-        options=options,
+        kinds=[InputKind.CHOICE if now.choices else InputKind.SHOT],
+        cue_ball=now.cue,
+        ball_in_hand=now.ball_in_hand,
+        options=list(now.choices),
         deadline=record.deadline,
+        shot=shot,
     )
 
 
@@ -264,8 +296,9 @@ def played(
             if won[state.winner] >= record.options.race_to:
                 status, winner = Status.OVER, state.winner
         if status is Status.PLAYING:
-            rack, breaker = rack + 1, 1 - breaker if record.mode is not Mode.PRACTICE else 0
-            breaker = refereeing.breaker_of(record.game, breaker)
+            rack = rack + 1
+            practice = record.mode is Mode.PRACTICE
+            breaker = 0 if practice else refereeing.next_breaker(record.game, breaker)
             state = refereeing.new_rack(record.game, record.seed + rack, breaker)
     after = bump(
         record,

@@ -13,8 +13,9 @@ What a backend must guarantee
    steps backwards. Messages of a channel are delivered to
    every subscriber in id order.
 2. **Bounded buffer.** A channel keeps at most `config.buffer_length` messages, none older than
-   `config.message_ttl` seconds. Older ones are dropped ("evicted"), and the backend remembers
-   the newest id it ever evicted from each channel.
+   `config.message_ttl` seconds, and at most `config.buffer_bytes` bytes of message data (the
+   newest message is always kept, whatever its size). Older ones are dropped ("evicted"), and
+   the backend remembers the newest id it ever evicted from each channel.
 3. **Exactly-once resume.** `read_since(channel, last_id, limit)` returns the buffered messages
    with ids greater than `last_id`, oldest first, at most `limit` of them. `subscribe(...,
    last_id=...)` delivers those and then every later message, each exactly once and in order,
@@ -72,6 +73,11 @@ class BackendConfig(BaseModel):
     model_config = ConfigDict(frozen=True)
 
     buffer_length: int = Field(default=100, ge=1, description="messages kept per channel")
+    buffer_bytes: int = Field(
+        default=16 * 1024 * 1024,
+        ge=1,
+        description="bytes of message data kept per channel (the newest message is always kept)",
+    )
     message_ttl: float = Field(default=3600.0, gt=0, description="seconds a message is kept")
     backlog_page: int = Field(default=4, ge=1, description="messages read at a time to resume")
     backlog_reads: int = Field(

@@ -1,10 +1,10 @@
 """The in-memory backend: the embedded default for one server process.
 
-Each channel is a deque bounded by the buffer length; expired messages are dropped lazily when
-the channel is next touched. `publish` fans out directly, so the "feed" of the interface is the
-publish call itself. A channel's state stays until it is deleted (the game service deletes a
-game's channels when it ends): forgetting it earlier would forget which ids expired, and a late
-resume would then miss its gap notice.
+Each channel is a deque bounded by the buffer length and by the bytes of its data; expired
+messages are dropped lazily when the channel is next touched. `publish` fans out directly, so
+the "feed" of the interface is the publish call itself. A channel's state stays until it is
+deleted (the game service deletes a table's channel when the table expires): forgetting it
+earlier would forget which ids expired, and a late resume would then miss its gap notice.
 
 Buffered messages are kept as plain tuples, not `StoredMessage` models: about 0.26 KB each
 instead of 1.3 KB (tracemalloc), and CPython's garbage collector stops tracking a tuple of
@@ -32,6 +32,7 @@ class _Channel:
     last_key: MessageKey | None = None
     evicted_key: MessageKey | None = None
     requested_at: float | None = None
+    data_bytes: int = 0  # of the buffered messages' data
 
 
 class MemoryBackend(Backend):
@@ -43,12 +44,17 @@ class MemoryBackend(Backend):
         self._channels: dict[str, _Channel] = {}
 
     def _expire(self, state: _Channel, now: float) -> None:
-        oldest_allowed = now - self.config.message_ttl
+        config = self.config
+        oldest_allowed = now - config.message_ttl
         messages = state.messages
         while messages and (
-            len(messages) > self.config.buffer_length or messages[0][4] < oldest_allowed
+            len(messages) > config.buffer_length
+            or (state.data_bytes > config.buffer_bytes and len(messages) > 1)
+            or messages[0][4] < oldest_allowed
         ):
-            state.evicted_key = messages.popleft()[0]
+            gone = messages.popleft()
+            state.evicted_key = gone[0]
+            state.data_bytes -= len(gone[3])
 
     async def publish(
         self, channel: str, data: bytes, content_type: str, event: str | None = None
@@ -70,6 +76,7 @@ class MemoryBackend(Backend):
         )
         state.last_key = key
         state.messages.append((key, message.id, content_type, data, now, event))
+        state.data_bytes += len(data)
         self._expire(state, now)
         subscribers = self.local_subscribers(channel)
         self._fan_out(channel, message)

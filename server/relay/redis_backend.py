@@ -6,7 +6,7 @@ Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluste
   i.e. nchan's `<unix seconds>:<tag>` with a dash. Redis generates the tag (`XADD key <s>-*`),
   so ids increase within a channel and need no mapping table.
 - `relay:{c}:meta`    hash: `last` id ever published, newest `evicted` id (for gap notices),
-  `requested` time of the last read.
+  `requested` time of the last read, `bytes` of message data in the stream (the byte bound).
 - `relay:{c}:subs`    hash: replica id -> its local subscriber count.
 - `relay:{c}:deleted` the stream of a channel just deleted, kept a minute (DELETED_KEPT_S) so
   that every replica delivers what preceded the delete before closing.
@@ -88,23 +88,24 @@ local function clock()
   return tonumber(t[1]) + tonumber(t[2]) / 1e6, tonumber(t[1])
 end
 
--- Drop entries beyond the buffer length, then those older than `cutoff`; remember the newest
--- dropped id in meta.evicted so that a resume from before it is told about the gap.
-local function evict(stream, meta, maxlen, cutoff)
+-- Drop the oldest entries while there are more than `maxlen`, or their data (meta.bytes, the
+-- `d` fields' total) exceeds `maxbytes` and more than one is left, or the oldest is older than
+-- `cutoff`; remember the newest dropped id in meta.evicted so that a resume from before it is
+-- told about the gap.
+local function evict(stream, meta, maxlen, cutoff, maxbytes)
   local evicted = nil
-  local excess = redis.call('XLEN', stream) - maxlen
-  if excess > 0 then
-    local gone = redis.call('XRANGE', stream, '-', '+', 'COUNT', excess)
-    evicted = gone[#gone][1]
-    redis.call('XTRIM', stream, 'MAXLEN', maxlen)
-  end
-  while true do
+  local count = redis.call('XLEN', stream)
+  local bytes = tonumber(redis.call('HGET', meta, 'bytes') or '0')
+  while count > 0 do
     local first = redis.call('XRANGE', stream, '-', '+', 'COUNT', 1)[1]
-    if first == nil or tonumber(first[2][2]) >= cutoff then break end
+    local over = count > maxlen or (count > 1 and bytes > maxbytes)
+    if not over and tonumber(first[2][2]) >= cutoff then break end
     redis.call('XDEL', stream, first[1])
+    bytes = bytes - string.len(first[2][6])  -- fields: t, time, c, type, d, data[, e, event]
+    count = count - 1
     evicted = first[1]
   end
-  if evicted then redis.call('HSET', meta, 'evicted', evicted) end
+  if evicted then redis.call('HSET', meta, 'evicted', evicted, 'bytes', bytes) end
 end
 
 -- Subscribers of all replicas that sent a heartbeat within `alive` seconds.
@@ -120,7 +121,7 @@ end
 """
 
 # KEYS: stream meta subs replicas news
-# ARGV: maxlen ttl alive idle_s content_type data event channel news_kept
+# ARGV: maxlen ttl maxbytes alive idle_s content_type data event channel news_kept
 _PUBLISH = (
     _LUA_HELPERS
     + """
@@ -130,44 +131,45 @@ if last then
   local last_seconds = tonumber(string.match(last, '^(%d+)-'))
   if last_seconds > seconds then seconds = last_seconds end
 end
-local fields = {'t', string.format('%.6f', now), 'c', ARGV[5], 'd', ARGV[6]}
-if ARGV[7] ~= '' then
+local fields = {'t', string.format('%.6f', now), 'c', ARGV[6], 'd', ARGV[7]}
+if ARGV[8] ~= '' then
   table.insert(fields, 'e')
-  table.insert(fields, ARGV[7])
+  table.insert(fields, ARGV[8])
 end
 local id = redis.call('XADD', KEYS[1], seconds .. '-*', unpack(fields))
-redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[9], '*', 'c', ARGV[8])
+redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[10], '*', 'c', ARGV[9])
 redis.call('HSET', KEYS[2], 'last', id)
-evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
-redis.call('EXPIRE', KEYS[1], ARGV[4])
-redis.call('EXPIRE', KEYS[2], ARGV[4])
+redis.call('HINCRBY', KEYS[2], 'bytes', string.len(ARGV[7]))
+evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]), tonumber(ARGV[3]))
+redis.call('EXPIRE', KEYS[1], ARGV[5])
+redis.call('EXPIRE', KEYS[2], ARGV[5])
 local requested = redis.call('HGET', KEYS[2], 'requested') or ''
 return {id, string.format('%.6f', now), redis.call('XLEN', KEYS[1]), requested,
-  subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[3]))}
+  subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[4]))}
 """
 )
 
-# KEYS: stream meta; ARGV: maxlen ttl start(XRANGE bound) count
+# KEYS: stream meta; ARGV: maxlen ttl maxbytes start(XRANGE bound) count
 _READ_SINCE = (
     _LUA_HELPERS
     + """
 if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false} end
 local now = clock()
 redis.call('HSET', KEYS[2], 'requested', string.format('%.6f', now))
-evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
-return {redis.call('XRANGE', KEYS[1], ARGV[3], '+', 'COUNT', ARGV[4]),
+evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]), tonumber(ARGV[3]))
+return {redis.call('XRANGE', KEYS[1], ARGV[4], '+', 'COUNT', ARGV[5]),
   redis.call('HGET', KEYS[2], 'evicted')}
 """
 )
 
-# KEYS: stream meta subs replicas; ARGV: maxlen ttl alive
+# KEYS: stream meta subs replicas; ARGV: maxlen ttl maxbytes alive
 _INFO = (
     _LUA_HELPERS
     + """
 local now = clock()
-evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
+evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]), tonumber(ARGV[3]))
 local messages = redis.call('XLEN', KEYS[1])
-local subs = subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[3]))
+local subs = subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[4]))
 if messages == 0 and subs == 0 then return false end
 local meta = redis.call('HMGET', KEYS[2], 'last', 'requested')
 return {messages, meta[2] or '', subs, meta[1] or '', string.format('%.6f', now)}
@@ -285,7 +287,7 @@ class RedisBackend(Backend):
 
     @property
     def _bounds(self) -> list[Any]:
-        return [self.config.buffer_length, self.config.message_ttl]
+        return [self.config.buffer_length, self.config.message_ttl, self.config.buffer_bytes]
 
     async def publish(
         self, channel: str, data: bytes, content_type: str, event: str | None = None

@@ -21,7 +21,9 @@ What a backend must guarantee
 4. **Shot ids are unique per table.** `accept` refuses a shot id the table has already
    accepted and returns the stored entry instead (`Duplicate`), with its outcome once resolved.
 5. **Input log.** `inputs` lists the resolved inputs of a table in the order they were played,
-   each with its outcome; `find_input` finds one by shot id, pending or resolved.
+   each with its outcome, and `rack_inputs` those of one rack alone, in the same order (a
+   rack's end reads its own inputs, not the whole match's); `find_input` finds one by shot id,
+   pending or resolved.
 6. **Listing.** `listed_tables` returns the tables whose last stored record is `listed` (public,
    open or playing), newest first, at most `limit`; `due_tables` those whose last stored
    record has a `deadline` at or before a time, earliest first.
@@ -30,14 +32,25 @@ What a backend must guarantee
    `online_players` counts unexpired claims.
 8. **Heartbeats** are kept per table and seat, outside the versioned record: a heartbeat
    never conflicts with an input.
-9. **Ratings once per match.** `rate` stores a table's rating changes at most once, however
-   many replicas report the same finished match.
+9. **Ratings once per match, never lost.** `rate` stores a table's rating changes at most
+   once, however many replicas report the same finished match (`ALREADY`), and only if no
+   other rating of those players in that game was stored since they were read: each new
+   rating must count exactly one game more than the stored one (none stored: 0), checked and
+   written atomically, else nothing is stored (`CONFLICT`) and the caller reads and computes
+   again. Two replicas rating two matches of one player at once both land, one after the other.
 10. **Breaks once.** `add_break` stores an entry at most once per key, atomically with the
     rankings `top_breaks` and `best_break` read.
 11. **Atomic pairing.** `pair` either takes one other player waiting for the same game off the
    queue and records both as paired at the given table (returning the partner), or queues the
    caller; a player is in at most one queue once, never paired twice by one call sequence,
    and never paired with itself. `quick_status` and `cancel_quick` read and leave the queue.
+12. **Expiry.** `expire_tables(now, limit)` deletes from the live store at most `limit` tables
+   whose last stored record's `expires` (server/tables.py: a finished table `KEEP_FINISHED`
+   after its last change, an unfinished one `KEEP_IDLE`) is at or before `now`, earliest
+   first, each with its inputs, heartbeats, listing and deadline, in one atomic step per
+   table, and returns their ids; a table changed since keeps its new expiry. Replays, breaks
+   and ratings are never expired. So the live store holds the tables of the last
+   `KEEP_FINISHED` / `KEEP_IDLE` seconds, not every table ever played.
 """
 
 from __future__ import annotations
@@ -49,6 +62,12 @@ from enum import StrEnum
 from server.api_models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
 from server.ratings import Rating
 from server.tables import InputEntry, TableRecord
+
+
+class RateResult(StrEnum):
+    RATED = "rated"
+    ALREADY = "already"
+    CONFLICT = "conflict"
 
 
 class AcceptResult(StrEnum):
@@ -114,6 +133,14 @@ class Storage(ABC):
     async def inputs(self, table_id: str) -> list[InputEntry]: ...
 
     @abstractmethod
+    async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
+        """The resolved inputs of one rack, in the order played (invariant 5)."""
+
+    @abstractmethod
+    async def expire_tables(self, now: float, limit: int) -> list[str]:
+        """Delete up to `limit` tables whose expiry is at or before `now` (invariant 12)."""
+
+    @abstractmethod
     async def heartbeat(self, table_id: str, seat: int, now: float) -> None:
         """Record that the player in `seat` is connected (not part of the versioned record)."""
 
@@ -134,9 +161,9 @@ class Storage(ABC):
         """The player's rating in each game it has a rated match in."""
 
     @abstractmethod
-    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
-        """Store new ratings for `game` once per table: False (nothing stored) if this table's
-        result was already rated."""
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> RateResult:
+        """Store new ratings for `game` once per table, each one game on from the stored one
+        (invariant 9); ALREADY or CONFLICT store nothing."""
 
     # ----- replays and the leaderboard ---------------------------------------------------
     @abstractmethod

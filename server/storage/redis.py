@@ -5,10 +5,13 @@ replica sends it. Keys, all prefixed `game:`:
 
 - `t:{id}` a hash of the table: `version`, `pending` (shot id or ""), `doc`;
 - `i:{id}` a hash shot id -> input entry; `l:{id}` the resolved shot ids in order;
+  `rs:{id}` a hash rack -> index in `l:{id}` of the rack's first input;
 - `h:{id}` the heartbeats of its seats; `listed` a sorted set of listed tables by creation;
-  `deadlines` a sorted set of tables by shot-clock deadline;
+  `deadlines` a sorted set of tables by shot-clock deadline; `expiry` a sorted set of every
+  table by the time it may be dropped (`TableRecord.expires`);
 - `p:{id}` players; `n:{key}` name claims (expiring) and `online` the claims by expiry;
-- `r:{player}` a hash game -> rating, `rated` the set of tables whose result was rated;
+- `r:{player}` a hash game -> rating (its `games` count is the compare-and-set stamp),
+  `rated` the set of tables whose result was rated;
 - `rp:{id}` replays; `bk` the set of break keys, `be` a hash key -> break, `lb:{game}` a
   sorted set of a game's breaks by score, `lbn:{game}` a hash name -> key of its best break;
 - `q:{game}` the quick-match queues and `qs:{player}` each player's quick-match status.
@@ -24,6 +27,7 @@ from server.ratings import Rating
 from server.storage import (
     Accepted,
     AcceptResult,
+    RateResult,
     Storage,
     StorageError,
     paired,
@@ -34,13 +38,14 @@ from server.tables import InputEntry, TableRecord
 
 P = "game:"
 
-# KEYS: table, listed, deadlines. ARGV: version, doc, table id, listed (0/1), created,
-# deadline ("" for none).
+# KEYS: table, listed, deadlines, expiry. ARGV: version, doc, table id, listed (0/1), created,
+# deadline ("" for none), expires.
 _CREATE = """
 if redis.call('EXISTS', KEYS[1]) == 1 then return 0 end
 redis.call('HSET', KEYS[1], 'version', ARGV[1], 'pending', '', 'doc', ARGV[2])
 if ARGV[4] == '1' then redis.call('ZADD', KEYS[2], ARGV[5], ARGV[3]) end
 if ARGV[6] ~= '' then redis.call('ZADD', KEYS[3], ARGV[6], ARGV[3]) end
+redis.call('ZADD', KEYS[4], ARGV[7], ARGV[3])
 return 1
 """
 
@@ -55,17 +60,19 @@ redis.call('HSET', KEYS[1], 'pending', ARGV[2], 'doc', ARGV[3])
 return {0}
 """
 
-# KEYS: table, inputs, log, listed, deadlines. ARGV: expected version, expected pending, new
-# version, doc, table id, listed (0/1), created, shot id to log ("" for none), entry,
-# deadline ("" for none).
+# KEYS: table, inputs, log, listed, deadlines, rack starts, expiry. ARGV: expected version,
+# expected pending, new version, doc, table id, listed (0/1), created, shot id to log ("" for
+# none), entry, deadline ("" for none), the entry's rack, expires.
 _SWAP = """
 local stamp = redis.call('HMGET', KEYS[1], 'version', 'pending')
 if stamp[1] ~= ARGV[1] or stamp[2] ~= ARGV[2] then return 0 end
 redis.call('HSET', KEYS[1], 'version', ARGV[3], 'pending', '', 'doc', ARGV[4])
 if ARGV[8] ~= '' then
   redis.call('HSET', KEYS[2], ARGV[8], ARGV[9])
+  redis.call('HSETNX', KEYS[6], ARGV[11], redis.call('LLEN', KEYS[3]))
   redis.call('RPUSH', KEYS[3], ARGV[8])
 end
+redis.call('ZADD', KEYS[7], ARGV[12], ARGV[5])
 if ARGV[6] == '1' then redis.call('ZADD', KEYS[4], ARGV[7], ARGV[5])
 else redis.call('ZREM', KEYS[4], ARGV[5]) end
 if ARGV[10] ~= '' then redis.call('ZADD', KEYS[5], ARGV[10], ARGV[5])
@@ -104,12 +111,31 @@ redis.call('SET', KEYS[2], ARGV[2])
 return false
 """
 
-# KEYS: rated set, then one ratings hash per player. ARGV: table id, game, then one rating
-# document per player.
+# KEYS: rated set, then one ratings hash per player. ARGV: table id, game, one rating document
+# per player, then each new rating's game count. Returns 0 rated, 1 already, 2 conflict.
 _RATE = """
-if redis.call('SADD', KEYS[1], ARGV[1]) == 0 then return 0 end
+if redis.call('SISMEMBER', KEYS[1], ARGV[1]) == 1 then return 1 end
+for i = 2, #KEYS do
+  local doc = redis.call('HGET', KEYS[i], ARGV[2])
+  local games = doc and cjson.decode(doc)['games'] or 0
+  if games + 1 ~= tonumber(ARGV[#KEYS + i]) then return 2 end
+end
+redis.call('SADD', KEYS[1], ARGV[1])
 for i = 2, #KEYS do redis.call('HSET', KEYS[i], ARGV[2], ARGV[i + 1]) end
-return 1
+return 0
+"""
+
+# KEYS: expiry, listed, deadlines. ARGV: now, limit, table key prefix. Every key of a table
+# goes (the per-table key names as in `RedisStorage._keys`).
+_EXPIRE = """
+local ids = redis.call('ZRANGEBYSCORE', KEYS[1], '-inf', ARGV[1], 'LIMIT', 0, ARGV[2])
+for _, id in ipairs(ids) do
+  for _, part in ipairs({'t:', 'i:', 'l:', 'rs:', 'h:'}) do
+    redis.call('DEL', ARGV[3] .. part .. id)
+  end
+  for i = 1, 3 do redis.call('ZREM', KEYS[i], id) end
+end
+return ids
 """
 
 # KEYS: keys set, entries hash, game's ranking, game's best by name. ARGV: key, entry, score,
@@ -145,6 +171,7 @@ class RedisStorage(Storage):
         self._pair = self._redis.register_script(_PAIR)
         self._cancel = self._redis.register_script(_CANCEL)
         self._rate = self._redis.register_script(_RATE)
+        self._expire = self._redis.register_script(_EXPIRE)
         self._add_break = self._redis.register_script(_ADD_BREAK)
 
     @classmethod
@@ -184,13 +211,16 @@ class RedisStorage(Storage):
             f"{P}l:{table_id}",
             f"{P}listed",
             f"{P}deadlines",
+            f"{P}rs:{table_id}",
+            f"{P}expiry",
         ]
 
     async def create_table(self, record: TableRecord) -> None:
-        keys = [f"{P}t:{record.id}", f"{P}listed", f"{P}deadlines"]
+        keys = [f"{P}t:{record.id}", f"{P}listed", f"{P}deadlines", f"{P}expiry"]
         args = [record.version, record.model_dump_json(), record.id, int(record.listed)]
         deadline = "" if record.deadline is None else repr(record.deadline)
-        if not await self._create(keys=keys, args=[*args, record.created, deadline]):
+        args += [record.created, deadline, repr(record.expires)]
+        if not await self._create(keys=keys, args=args):
             raise ValueError(f"table {record.id} exists")
 
     async def get_table(self, table_id: str) -> TableRecord | None:
@@ -219,6 +249,8 @@ class RedisStorage(Storage):
             entry.shot_id if entry else "",
             entry.model_dump_json() if entry else "",
             "" if record.deadline is None else repr(record.deadline),
+            entry.rack if entry else "",
+            repr(record.expires),
         ]
         return bool(await self._swap_script(keys=self._keys(record.id), args=args))
 
@@ -238,6 +270,21 @@ class RedisStorage(Storage):
             return []
         docs = await self._redis.hmget(f"{P}i:{table_id}", shot_ids)
         return [InputEntry.model_validate_json(doc) for doc in docs]
+
+    async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
+        start, end = await self._redis.hmget(f"{P}rs:{table_id}", [str(rack), str(rack + 1)])
+        if start is None:  # nothing logged in this rack, or logged before racks' starts were
+            return [e for e in await self.inputs(table_id) if e.rack == rack]
+        stop = -1 if end is None else int(end) - 1
+        shot_ids = await self._redis.lrange(f"{P}l:{table_id}", int(start), stop)
+        if not shot_ids:
+            return []
+        docs = await self._redis.hmget(f"{P}i:{table_id}", shot_ids)
+        return [InputEntry.model_validate_json(doc) for doc in docs]
+
+    async def expire_tables(self, now: float, limit: int) -> list[str]:
+        keys = [f"{P}expiry", f"{P}listed", f"{P}deadlines"]
+        return await self._expire(keys=keys, args=[repr(now), limit, P])
 
     async def heartbeat(self, table_id: str, seat: int, now: float) -> None:
         await self._redis.hset(f"{P}h:{table_id}", str(seat), repr(now))
@@ -264,10 +311,12 @@ class RedisStorage(Storage):
         docs = await self._redis.hgetall(f"{P}r:{player_id}")
         return {game: Rating.model_validate_json(doc) for game, doc in docs.items()}
 
-    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> RateResult:
         keys = [f"{P}rated", *(f"{P}r:{player}" for player in ratings)]
         args = [table_id, game, *(rating.model_dump_json() for rating in ratings.values())]
-        return bool(await self._rate(keys=keys, args=args))
+        args += [rating.games for rating in ratings.values()]
+        answer = await self._rate(keys=keys, args=args)
+        return (RateResult.RATED, RateResult.ALREADY, RateResult.CONFLICT)[answer]
 
     # ----- replays and the leaderboard ---------------------------------------------------
     async def add_replay(self, replay: ReplayView) -> None:

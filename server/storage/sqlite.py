@@ -25,24 +25,27 @@ from server.ratings import Rating
 from server.storage import (
     Accepted,
     AcceptResult,
+    RateResult,
     Storage,
     paired,
     parse_quick,
     waiting,
 )
-from server.tables import InputEntry, TableRecord
+from server.tables import KEEP_IDLE, InputEntry, TableRecord
 
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS names (key TEXT PRIMARY KEY, player TEXT NOT NULL, until REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS tables (
     id TEXT PRIMARY KEY, version INTEGER NOT NULL, pending TEXT NOT NULL,
-    listed INTEGER NOT NULL, created REAL NOT NULL, deadline REAL, doc TEXT NOT NULL);
+    listed INTEGER NOT NULL, created REAL NOT NULL, deadline REAL, doc TEXT NOT NULL,
+    expires REAL);
 CREATE INDEX IF NOT EXISTS tables_listed ON tables (listed, created);
 CREATE INDEX IF NOT EXISTS tables_deadline ON tables (deadline);
 CREATE TABLE IF NOT EXISTS inputs (
     table_id TEXT NOT NULL, shot_id TEXT NOT NULL, seq INTEGER, doc TEXT NOT NULL,
     PRIMARY KEY (table_id, shot_id));
+CREATE INDEX IF NOT EXISTS inputs_rack ON inputs (table_id, json_extract(doc, '$.rack'), seq);
 CREATE TABLE IF NOT EXISTS heartbeats (
     table_id TEXT NOT NULL, seat INTEGER NOT NULL, seen REAL NOT NULL,
     PRIMARY KEY (table_id, seat));
@@ -72,6 +75,17 @@ def token_key(path: str | Path) -> str:
     return value
 
 
+async def _add_expiry(db: aiosqlite.Connection) -> None:
+    """Give a database made before table expiry its `expires` column (invariant 12): its
+    tables expire `KEEP_IDLE` after creation, or as their next change says."""
+    async with db.execute("PRAGMA table_info(tables)") as cursor:
+        columns = {row[1] for row in await cursor.fetchall()}
+    if "expires" not in columns:
+        await db.execute("ALTER TABLE tables ADD COLUMN expires REAL")
+        await db.execute("UPDATE tables SET expires = created + ?", (KEEP_IDLE,))
+    await db.execute("CREATE INDEX IF NOT EXISTS tables_expires ON tables (expires)")
+
+
 class SqliteStorage(Storage):
     def __init__(self, db: aiosqlite.Connection) -> None:
         self._db = db
@@ -84,6 +98,7 @@ class SqliteStorage(Storage):
         await db.execute("PRAGMA journal_mode=WAL")
         await db.execute("PRAGMA synchronous=NORMAL")
         await db.executescript(SCHEMA)
+        await _add_expiry(db)
         storage = cls(db)
         async with db.execute("SELECT COALESCE(MAX(queued), 0) + 1 FROM quick") as cursor:
             (start,) = await cursor.fetchone()
@@ -137,7 +152,7 @@ class SqliteStorage(Storage):
         async with self._transaction() as db:
             try:
                 await db.execute(
-                    "INSERT INTO tables VALUES (?, ?, '', ?, ?, ?, ?)",
+                    "INSERT INTO tables VALUES (?, ?, '', ?, ?, ?, ?, ?)",
                     (
                         record.id,
                         record.version,
@@ -145,6 +160,7 @@ class SqliteStorage(Storage):
                         record.created,
                         record.deadline,
                         record.model_dump_json(),
+                        record.expires,
                     ),
                 )
             except aiosqlite.IntegrityError:
@@ -160,14 +176,15 @@ class SqliteStorage(Storage):
 
     async def _write(self, db: aiosqlite.Connection, record: TableRecord, pending: str) -> None:
         await db.execute(
-            "UPDATE tables SET version = ?, pending = ?, listed = ?, deadline = ?, doc = ? "
-            "WHERE id = ?",
+            "UPDATE tables SET version = ?, pending = ?, listed = ?, deadline = ?, doc = ?, "
+            "expires = ? WHERE id = ?",
             (
                 record.version,
                 pending,
                 int(record.listed),
                 record.deadline,
                 record.model_dump_json(),
+                record.expires,
                 record.id,
             ),
         )
@@ -228,6 +245,32 @@ class SqliteStorage(Storage):
             rows = await cursor.fetchall()
         return [InputEntry.model_validate_json(row[0]) for row in rows]
 
+    async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
+        async with (
+            self._lock,
+            self._db.execute(
+                "SELECT doc FROM inputs WHERE table_id = ? AND json_extract(doc, '$.rack') = ? "
+                "AND seq IS NOT NULL ORDER BY seq",
+                (table_id, rack),
+            ) as cursor,
+        ):
+            rows = await cursor.fetchall()
+        return [InputEntry.model_validate_json(row[0]) for row in rows]
+
+    async def expire_tables(self, now: float, limit: int) -> list[str]:
+        async with self._transaction() as db:
+            async with db.execute(
+                "SELECT id FROM tables WHERE expires <= ? ORDER BY expires LIMIT ?", (now, limit)
+            ) as cursor:
+                ids = [row[0] for row in await cursor.fetchall()]
+            for sql in (
+                "DELETE FROM inputs WHERE table_id = ?",
+                "DELETE FROM heartbeats WHERE table_id = ?",
+                "DELETE FROM tables WHERE id = ?",
+            ):
+                await db.executemany(sql, [(table_id,) for table_id in ids])
+            return ids
+
     async def heartbeat(self, table_id: str, seat: int, now: float) -> None:
         async with self._transaction() as db:
             await db.execute(
@@ -274,18 +317,26 @@ class SqliteStorage(Storage):
             rows = await cursor.fetchall()
         return {game: Rating.model_validate_json(doc) for game, doc in rows}
 
-    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> bool:
+    async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> RateResult:
         async with self._transaction() as db:
-            try:
-                await db.execute("INSERT INTO rated VALUES (?)", (table_id,))
-            except aiosqlite.IntegrityError:
-                return False
+            async with db.execute("SELECT 1 FROM rated WHERE table_id = ?", (table_id,)) as c:
+                if await c.fetchone() is not None:
+                    return RateResult.ALREADY
+            for player, rating in ratings.items():
+                async with db.execute(
+                    "SELECT doc FROM ratings WHERE player = ? AND game = ?", (player, game)
+                ) as cursor:
+                    row = await cursor.fetchone()
+                stored = Rating.model_validate_json(row[0]).games if row else 0
+                if rating.games != stored + 1:
+                    return RateResult.CONFLICT
+            await db.execute("INSERT INTO rated VALUES (?)", (table_id,))
             for player, rating in ratings.items():
                 await db.execute(
                     "INSERT OR REPLACE INTO ratings VALUES (?, ?, ?)",
                     (player, game, rating.model_dump_json()),
                 )
-            return True
+            return RateResult.RATED
 
     # ----- replays and the leaderboard ---------------------------------------------------
     async def add_replay(self, replay: ReplayView) -> None:

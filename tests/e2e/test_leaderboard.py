@@ -14,7 +14,6 @@ import urllib.request
 from rules.game import Setup
 from rules.record import GameRecord, replay
 from rules.selfplay import selfplay
-from server.refereeing import best_visits
 from tests.e2e.conftest import drawn_balls, screenshot, unique_name
 
 #: How long the command-line client may take to finish a practice rack (s).
@@ -23,9 +22,7 @@ RACK_TIMEOUT_S = 120
 
 def claimable(seed: int) -> tuple[str, int]:
     record, played = selfplay(Setup(game="nineball", seed=seed), max_inputs=60)
-    return record.to_json(), max(
-        best_visits("nineball", [s.decision for s in played.steps], played.final)
-    )
+    return record.to_json(), max(played.final.best)
 
 
 def test_a_claimed_break_is_checked_and_listed(open_page, console):

@@ -89,13 +89,15 @@ def redis_url_or_none(request: pytest.FixtureRequest) -> str | None:
 
 @pytest.fixture
 async def start_relay(redis_url_or_none: str | None) -> AsyncIterator[StartRelay]:
-    """Start relay apps with settings overrides (`buffer_length`, `message_ttl`, or any
-    `RelaySettings` field); all are stopped at the end."""
+    """Start relay apps with settings overrides (`buffer_length`, `buffer_bytes`,
+    `message_ttl`, or any `RelaySettings` field); all are stopped at the end."""
     clients: list[TestClient] = []
 
     async def start(**overrides: Any) -> RelayHarness:
         buffer = {
-            key: overrides.pop(key) for key in ("buffer_length", "message_ttl") if key in overrides
+            key: overrides.pop(key)
+            for key in ("buffer_length", "buffer_bytes", "message_ttl")
+            if key in overrides
         }
         relay_settings = RelaySettings(
             auth_secret=SECRET, buffer=BackendConfig(**buffer), **overrides

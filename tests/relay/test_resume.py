@@ -90,6 +90,27 @@ async def test_resume_from_newest_evicted_id_has_no_gap(start_relay: StartRelay)
     await ws.close()
 
 
+async def test_a_buffer_bounded_in_bytes_evicts_into_a_gap(start_relay: StartRelay) -> None:
+    """Invariant 2's byte bound: large messages evict older ones by their size, not their
+    count, the newest is kept even when it alone is over the bound, and a resume from before
+    what was evicted is told of the gap."""
+    relay = await start_relay(buffer_bytes=2500)
+    ids = [await relay.publish_ok("game1", f"{n}" * 1000) for n in range(5)]  # ~1 KB each
+    info = await relay.info("game1")
+    assert info is not None and info["messages"] == 2
+    ws = await relay.ws(f"/sub/game1?last_event_id={ids[0]}")
+    _, content_type, _ = await receive_meta(ws)
+    assert content_type == GAP_TYPE
+    assert [value for _, value in await _collect(ws, 2)] == ["3" * 1000, "4" * 1000]
+    await ws.close()
+    big = await relay.publish_ok("game1", "x" * 4000)  # over the bound alone: kept alone
+    info = await relay.info("game1")
+    assert info is not None and info["messages"] == 1 and info["last_message_id"] == big
+    ws = await relay.ws(f"/sub/game1?last_event_id={ids[4]}")
+    assert await _collect(ws, 1) == [(big, "x" * 4000)]
+    await ws.close()
+
+
 async def test_messages_older_than_the_ttl_expire_into_a_gap(start_relay: StartRelay) -> None:
     relay = await start_relay(message_ttl=0.5)
     old = await relay.publish_ok("game1", "old")

@@ -113,3 +113,13 @@ def test_on_the_eight_it_must_be_hit_first_and_called():
         shoot(on_eight(), hit("cue", "8"), rail("8"))
     with refused(Refusal.NO_CALL):
         shoot(table(("solids", "stripes")), hit("cue", "2"), rail("2"), call="top_left")
+
+
+def test_the_visit_counts_every_ball_of_a_turn_at_the_table():
+    state, _ = shoot(
+        table(groups=("solids", "stripes"), visit=1, best=(1, 4)), hit("cue", "2"), pot("2")
+    )
+    assert state.turn == 0 and state.visit == 2 and state.best == (2, 4)
+    # The 8 is on (called), and missed: the turn passes and the visit ends.
+    state, _ = shoot(state, hit("cue", "8"), rail("8"), call="top_left")
+    assert state.turn == 1 and state.visit == 0 and state.best == (2, 4)

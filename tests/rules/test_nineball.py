@@ -170,3 +170,22 @@ def test_inputs_out_of_turn_are_refused_and_change_nothing():
     with refused(Refusal.GAME_OVER):
         shoot(over, hit("cue", "3"))
     assert state == table()
+
+
+def test_the_visit_counts_balls_pocketed_until_the_turn_passes_or_a_foul():
+    """A visit (the leaderboard's pool break) is kept by the referee in `State.visit`, and each
+    player's best in `State.best`: the balls of one turn at the table, break included."""
+    state, _ = shoot(new_game(1), hit("cue", "1"), pot("4"), pot("6"))
+    assert state.turn == 0 and state.visit == 2 and state.best == (2, 0)
+    state = state.evolve(balls={"cue": (0.6, 0.5), "3": (0.6, 1.2), "5": (0.3, 1.6)})
+    state, _ = shoot(state, hit("cue", "3"), pot("3"))
+    assert state.visit == 3 and state.best == (3, 0)
+    state, _ = shoot(state, hit("cue", "5"), rail("5"))  # nothing pocketed: the turn passes
+    assert state.turn == 1 and state.visit == 0 and state.best == (3, 0)
+    state, d = shoot(state, hit("cue", "5"), pot("5"), pot("cue"))  # a ball down on a foul
+    assert d.fouls and state.visit == 0 and state.best == (3, 0)
+
+
+def test_a_foul_scores_no_visit_even_with_balls_down():
+    state, d = shoot(table(visit=2, best=(2, 0)), hit("cue", "5"), pot("3"))
+    assert d.fouls and state.turn == 1 and state.visit == 0 and state.best == (2, 0)

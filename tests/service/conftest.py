@@ -19,8 +19,7 @@ import pytest
 from aiohttp.test_utils import TestClient, TestServer
 
 from server.api_models import Mode, PlayerInfo, TableCreate
-from server.app import AppSettings, create_app
-from server.relay.settings import RelaySettings
+from server.app import AppSettings, create_app, relay_settings
 from server.service import SERVICE_KEY, Service
 from server.storage import Storage
 from server.storage.redis import RedisStorage
@@ -155,7 +154,7 @@ async def start_server(tmp_path: Path) -> AsyncIterator[StartServer]:
 
     async def start(**overrides: Any) -> TestClient:
         settings = {
-            "relay": RelaySettings(auth_secret=SECRET),
+            "relay": relay_settings(auth_secret=SECRET),
             "database": str(tmp_path / "game.sqlite"),
             "workers": 2,
             **overrides,

@@ -5,9 +5,13 @@ from __future__ import annotations
 import pytest
 
 from rules.pickers import pick
+from rules.pool import POCKETS
 from rules.record import replay
-from server import refereeing
+from server import refereeing, tables
+from server.api_models import Constraints, InputKind, Mode, TableCreate
 from server.refereeing import GameName
+from server.tables import new_table
+from tests.service.conftest import ADA
 
 
 @pytest.mark.parametrize("breaker", [0, 1])
@@ -29,3 +33,49 @@ def test_a_racks_record_replays_whoever_broke(game, breaker):
     again = replay(record)
     assert [step.state for step in again.steps] == [s for _, s in played]
     assert again.steps[0].decision.player == breaker
+
+
+def next_of(state: refereeing.State) -> Constraints:
+    """The `next` field a table in `state` publishes (a bot table: seat 1 acts too)."""
+    create = TableCreate(game=state.game, mode=Mode.BOT)
+    record = new_table("0" * 20, create, ADA, seed=7).model_copy(update={"state": state})
+    constraints = tables.constraints(record)
+    assert constraints is not None
+    return Constraints.model_validate_json(constraints.model_dump_json())  # as on the wire
+
+
+def test_next_tells_the_breaker_where_the_cue_ball_may_go():
+    after = next_of(refereeing.new_rack(GameName.NINEBALL, 3, 0))
+    assert after.kinds == [InputKind.SHOT] and after.cue_ball == "cue"
+    assert after.shot.place == "kitchen" and not after.shot.place_required
+    assert after.shot.targets == ["1"] and not after.shot.push_out and after.shot.call == []
+    foul = refereeing.new_rack(GameName.SNOOKER, 3, 0)
+    in_hand = foul.evolve(balls={b: p for b, p in foul.balls.items() if b != "cue"})
+    assert next_of(in_hand).shot.place == "D" and next_of(in_hand).shot.place_required
+
+
+def test_next_offers_the_push_out_after_the_nine_ball_break_only():
+    state = refereeing.new_rack(GameName.NINEBALL, 3, 0)
+    assert next_of(state.evolve(shots=1)).shot.push_out
+    assert not next_of(state.evolve(shots=2)).shot.push_out
+
+
+def test_next_asks_for_a_called_pocket_on_the_eight():
+    state = refereeing.new_rack(GameName.EIGHTBALL, 3, 0)
+    balls = {"cue": (0.6, 0.5), "8": (0.9, 1.9), "9": (0.3, 1.6)}
+    on_eight = state.evolve(balls=balls, shots=9, groups=("solids", "stripes"))
+    assert next_of(on_eight).shot.targets == ["8"]
+    assert sorted(next_of(on_eight).shot.call) == sorted(POCKETS)
+    assert next_of(on_eight.evolve(turn=1)).shot.call == []  # stripes: not on the 8
+
+
+def test_next_lists_the_nominations_and_the_choices_of_snooker():
+    state = refereeing.new_rack(GameName.SNOOKER, 3, 0)
+    assert next_of(state).shot.nominate == []  # on a red
+    colour = next_of(state.evolve(on="colour")).shot.nominate
+    assert colour == sorted(["yellow", "green", "brown", "blue", "pink", "black"])
+    free = next_of(state.evolve(free_ball=True)).shot.nominate
+    assert "red" not in "".join(free) and "black" in free
+    chosen = next_of(state.evolve(pending=("play_on", "play_again", "replace"), retake=state))
+    assert chosen.kinds == [InputKind.CHOICE] and chosen.shot is None
+    assert chosen.options == ["play_on", "play_again", "replace"]

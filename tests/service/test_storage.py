@@ -3,24 +3,29 @@
 from __future__ import annotations
 
 import asyncio
+import sqlite3
 import time
+from pathlib import Path
 
 import pytest
 
 from server import refereeing
-from server.api_models import BreakEntry, Source
+from server.api_models import BreakEntry, Source, Status
+from server.match import rate
 from server.ratings import Rating
-from server.storage import AcceptResult, Storage
-from server.tables import InputEntry, TableRecord, bump, join
+from server.storage import AcceptResult, RateResult, Storage
+from server.storage.sqlite import SCHEMA, SqliteStorage
+from server.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
 
 
-def pending(record: TableRecord, shot_id: str) -> TableRecord:
+def pending(record: TableRecord, shot_id: str, rack: int = 1) -> TableRecord:
     entry = InputEntry(
         shot_id=shot_id,
         seat=0,
         input=refereeing.Choice(option="play_on"),
         version=record.version,
+        rack=rack,
         accepted_at=time.time(),
     )
     return record.model_copy(update={"pending": entry})
@@ -106,8 +111,6 @@ async def test_listed_tables_are_the_public_unfinished_ones(storage: Storage) ->
     for record in (public, private):
         await storage.create_table(record)
     assert [r.id for r in await storage.listed_tables(10)] == [public.id]
-    from server.api_models import Status
-
     assert await storage.update(bump(public, status=Status.CANCELLED))
     assert await storage.listed_tables(10) == []
 
@@ -157,11 +160,43 @@ async def test_a_match_is_rated_once(open_storage: OpenStorage) -> None:
     stores = [await open_storage() for _ in range(3)]
     new = {"p_ada": Rating(rating=1600, games=1), "p_bob": Rating(rating=1400, games=1)}
     applied = await asyncio.gather(*(s.rate("t" * 20, "snooker", new) for s in stores))
-    assert sorted(applied) == [False, False, True]
+    assert sorted(applied) == [RateResult.ALREADY, RateResult.ALREADY, RateResult.RATED]
     assert await stores[1].ratings("p_ada") == {"snooker": new["p_ada"]}
-    assert not await stores[0].rate("t" * 20, "snooker", {"p_ada": Rating(rating=9)})
+    again = {"p_ada": Rating(rating=9, games=2)}
+    assert await stores[0].rate("t" * 20, "snooker", again) is RateResult.ALREADY
     assert (await stores[0].ratings("p_ada"))["snooker"].rating == 1600
     assert await stores[0].ratings("p_nobody") == {}
+
+
+async def test_a_rating_computed_from_a_stale_read_is_refused(storage: Storage) -> None:
+    first = {"p_ada": Rating(rating=1600, games=1), "p_bob": Rating(rating=1400, games=1)}
+    assert await storage.rate("a" * 20, "nineball", first) is RateResult.RATED
+    # Computed from the unrated state (games 0 -> 1) after the first match landed: refused.
+    stale = {"p_ada": Rating(rating=1450, games=1), "p_cy": Rating(rating=1550, games=1)}
+    assert await storage.rate("b" * 20, "nineball", stale) is RateResult.CONFLICT
+    assert (await storage.ratings("p_ada"))["nineball"] == first["p_ada"]
+    assert await storage.ratings("p_cy") == {}  # nothing of the refused table stored
+    fresh = {"p_ada": Rating(rating=1500, games=2), "p_cy": Rating(rating=1550, games=1)}
+    assert await storage.rate("b" * 20, "nineball", fresh) is RateResult.RATED
+
+
+async def test_two_replicas_rating_one_player_at_once_lose_nothing(
+    open_storage: OpenStorage,
+) -> None:
+    """Ada finishes a match against Bob on one replica and one against Cy on another at the
+    same moment: both ratings land (each replica reads, computes and compare-and-sets)."""
+    stores = [await open_storage() for _ in range(2)]
+    cy = BOB.model_copy(update={"id": "p_cy", "name": "Cy"})
+    matches = []
+    for i, opponent in enumerate((BOB, cy)):
+        seated = join(a_table(f"{i + 1}" * 20), opponent)
+        matches.append(bump(seated, status=Status.OVER, winner=0))
+    await asyncio.gather(
+        *(rate(s, m, list(m.seats)) for s, m in zip(stores * 4, matches * 4, strict=True))
+    )
+    ada = (await stores[0].ratings("p_ada"))["nineball"]
+    assert ada.games == 2 and ada.rating > (await stores[1].ratings("p_bob"))["nineball"].rating
+    assert (await stores[1].ratings("p_cy"))["nineball"].games == 1
 
 
 async def test_due_tables_follow_the_stored_deadline(storage: Storage) -> None:
@@ -191,3 +226,79 @@ async def test_breaks_rank_once_per_key(storage: Storage) -> None:
     assert (await storage.best_break("snooker", "Ada")).score == 60
     assert await storage.best_break("snooker", "Eve") is None
     assert await storage.top_breaks("nineball", 5) == []
+
+
+async def test_rack_inputs_are_one_racks_inputs_in_order(storage: Storage) -> None:
+    record = join(a_table(), BOB)
+    await storage.create_table(record)
+    for i, rack in enumerate((1, 1, 2, 2, 2, 3)):
+        accepted = pending(record, f"shot-{i:04d}", rack)
+        assert (await storage.accept(accepted)).result is AcceptResult.ACCEPTED
+        record = bump(record)
+        assert await storage.resolve(record, accepted.pending)
+    shots = {r: [e.shot_id for e in await storage.rack_inputs(record.id, r)] for r in (1, 2, 3)}
+    assert shots == {1: ["shot-0000", "shot-0001"], 2: [f"shot-{i:04d}" for i in (2, 3, 4)]} | {
+        3: ["shot-0005"]
+    }
+    assert await storage.rack_inputs(record.id, 4) == []
+    assert len(await storage.inputs(record.id)) == 6
+
+
+async def test_finished_and_abandoned_tables_expire_with_their_inputs(storage: Storage) -> None:
+    playing = join(a_table("1" * 20), BOB)
+    finished = join(a_table("2" * 20), BOB)
+    for record in (playing, finished):
+        await storage.create_table(record)
+    accepted = pending(finished, "shot-0001")
+    assert (await storage.accept(accepted)).result is AcceptResult.ACCEPTED
+    over = bump(finished, status=Status.OVER, winner=0)
+    assert await storage.resolve(over, accepted.pending)
+    await storage.heartbeat(over.id, 0, time.time())
+    now = time.time()
+    assert over.expires <= now + KEEP_FINISHED < playing.expires
+    assert await storage.expire_tables(now, 10) == []  # nothing is due yet
+    assert await storage.expire_tables(now + KEEP_FINISHED + 1, 10) == [over.id]
+    assert await storage.get_table(over.id) is None
+    assert await storage.inputs(over.id) == [] and await storage.rack_inputs(over.id, 1) == []
+    assert await storage.find_input(over.id, "shot-0001") is None
+    assert await storage.heartbeats(over.id) == (None, None)
+    assert await storage.get_table(playing.id) == playing  # unfinished: kept KEEP_IDLE
+    assert [r.id for r in await storage.listed_tables(10)] == [playing.id]
+    # A change moves the expiry on; an abandoned table goes KEEP_IDLE after its last change.
+    touched = bump(playing)
+    assert await storage.update(touched)
+    assert await storage.expire_tables(playing.expires, 10) == []
+    assert await storage.expire_tables(touched.expires, 10) == [playing.id]
+    assert await storage.listed_tables(10) == [] and touched.expires - touched.updated == KEEP_IDLE
+
+
+async def test_expiry_is_bounded_per_call_and_earliest_first(storage: Storage) -> None:
+    records = [a_table(f"{i:020x}") for i in range(5)]
+    for i, record in enumerate(records):
+        await storage.create_table(record.model_copy(update={"created": 1000.0 + i}))
+    later = 1000.0 + KEEP_IDLE + 10
+    first = await storage.expire_tables(later, 3)
+    assert first == [r.id for r in records[:3]]
+    assert await storage.expire_tables(later, 3) == [r.id for r in records[3:]]
+    assert await storage.expire_tables(later, 3) == []
+
+
+async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Path) -> None:
+    """A SQLite file written before invariant 12 opens, and its tables expire KEEP_IDLE after
+    they were created (or as their next change says)."""
+    path = tmp_path / "old.sqlite3"
+    old_schema = SCHEMA.replace(",\n    expires REAL", "")
+    assert old_schema != SCHEMA
+    record = a_table()
+    with sqlite3.connect(path) as db:
+        db.executescript(old_schema)
+        row = (record.id, 0, "", 1, record.created, None, record.model_dump_json())
+        db.execute("INSERT INTO tables VALUES (?, ?, ?, ?, ?, ?, ?)", row)
+    db.close()
+    storage = await SqliteStorage.open(path)
+    try:
+        assert await storage.get_table(record.id) == record
+        assert await storage.expire_tables(record.created + KEEP_IDLE - 1, 10) == []
+        assert await storage.expire_tables(record.created + KEEP_IDLE, 10) == [record.id]
+    finally:
+        await storage.close()
