@@ -161,15 +161,20 @@ return {id, string.format('%.6f', now), redis.call('XLEN', KEYS[1]), requested,
 )
 
 # KEYS: stream meta; ARGV: maxlen ttl start(XRANGE bound) count
+# Returns the entries, the newest evicted id, whether more entries follow (the one entry read
+# to know it stays in Redis: a backlog page of large messages crosses the wire once).
 _READ_SINCE = (
     _LUA_HELPERS
     + """
-if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false} end
+if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false, 0} end
 local now = clock()
 redis.call('HSET', KEYS[2], 'requested', string.format('%.6f', now))
 evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]))
-return {redis.call('XRANGE', KEYS[1], ARGV[3], '+', 'COUNT', ARGV[4]),
-  redis.call('HGET', KEYS[2], 'evicted')}
+local count = tonumber(ARGV[4])
+local entries = redis.call('XRANGE', KEYS[1], ARGV[3], '+', 'COUNT', count + 1)
+local more = #entries > count
+if more then entries[#entries] = nil end
+return {entries, redis.call('HGET', KEYS[2], 'evicted'), more and 1 or 0}
 """
 )
 
@@ -345,16 +350,16 @@ class RedisBackend(Backend):
         start = "-" if last_id is None else "(" + _to_stream_id(last_id)
         keys = _keys(channel)
         with _store_errors():
-            entries, evicted = await self._read_since(
-                keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start, limit + 1]
+            entries, evicted, more = await self._read_since(
+                keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start, limit]
             )
-        messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries[:limit]]
+        messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries]
         gap = (
             last_id is not None
             and bool(evicted)
             and parse_message_id(_to_message_id(evicted)) > parse_message_id(last_id)
         )
-        return Backlog(messages=messages, gap=gap, more=len(entries) > limit)
+        return Backlog(messages=messages, gap=gap, more=bool(more))
 
     async def info(self, channel: str) -> ChannelInfo | None:
         keys = _keys(channel)

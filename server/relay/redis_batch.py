@@ -20,8 +20,10 @@ import asyncio
 import hashlib
 from typing import Any
 
+import hiredis
 import redis.asyncio as aioredis
-from redis.exceptions import NoScriptError
+from redis.asyncio.connection import Connection
+from redis.exceptions import NoScriptError, ResponseError
 
 Call = tuple[list[Any], list[Any], "asyncio.Future[Any]"]
 
@@ -93,7 +95,32 @@ class ScriptBatcher:
         return replies
 
     async def _pipeline(self, calls: list[tuple[list[Any], list[Any]]]) -> list[Any]:
-        async with self._redis.pipeline(transaction=False) as pipe:
-            for keys, args in calls:
-                pipe.evalsha(self._sha, len(keys), *keys, *args)
-            return await pipe.execute(raise_on_error=False)
+        """One round trip for `calls` on a connection of the pool, with the pool's retry
+        policy. Packed by hiredis in one piece, not command by command as redis-py's asyncio
+        pipeline does in Python: on the publish path that packing was the larger cost."""
+        packed = b"".join(
+            hiredis.pack_command(("EVALSHA", self._sha, len(keys), *keys, *args))
+            for keys, args in calls
+        )
+        pool = self._redis.connection_pool
+        connection = await pool.get_connection()
+        try:
+            return await connection.retry.call_with_retry(
+                lambda: _round_trip(connection, packed, len(calls)),
+                lambda _: connection.disconnect(),
+            )
+        finally:
+            await pool.release(connection)
+
+
+async def _round_trip(connection: Connection, packed: bytes, count: int) -> list[Any]:
+    """Send packed commands, then read their `count` replies (an error reply is returned as
+    its exception, in its place)."""
+    await connection.send_packed_command(packed, check_health=False)
+    replies: list[Any] = []
+    for _ in range(count):
+        try:
+            replies.append(await connection.read_response())
+        except ResponseError as error:
+            replies.append(error)
+    return replies
