@@ -10,20 +10,24 @@ Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluste
 - `relay:{c}:subs`    hash: replica id -> its local subscriber count.
 - `relay:{c}:deleted` the stream of a channel just deleted, kept a minute (DELETED_KEPT_S) so
   that every replica delivers what preceded the delete before closing.
-- `relay:news`        a stream of which channel each publish and delete touched (for a delete,
-  also the deleting replica), read by every replica (see `server.relay.redis_reader`).
+- `relay:news`        a stream of every publish and delete in the order Redis ran them: the
+  channel, a sequence number (`relay:news:sequence`), the message's stream id and, unless it is
+  larger than `NEWS_DATA_MAX`, the message; for a delete, the deleting replica. Every replica
+  reads it (see `server.relay.redis_reader`).
 - `relay:replicas`    sorted set: replica id -> Redis time of its last heartbeat; counts of
   replicas silent for `ALIVE_S` are ignored, so a crashed replica's subscribers stop counting.
 
 Every state change is one Lua script, so it is atomic and uses Redis' clock (one clock for all
 replicas). With `appendonly yes` and `appendfsync always` (docker-compose.yml, the test
-fixture) a publish that was answered is on disk, and survives a Redis restart.
+fixture) a publish that was answered is on disk, and survives a Redis restart. Publishes made
+while others are on their way to Redis go together in one pipeline (`server.relay.redis_batch`),
+so under load a round trip and an fsync serve many of them.
 
 Fan-out: each replica runs one reader (`server.relay.redis_reader`) on one connection for all
-channels with local subscribers. It blocks in one `XREAD` on `relay:news`, fetches the new
-messages of its channels that have some, and hands each to every local subscriber
+channels with local subscribers. It blocks in one `XREAD` on `relay:news` and hands each
+message of its channels, straight from the news, to every local subscriber
 (`Backend._fan_out`), so Redis is read once per message per replica, never once per
-subscriber, and the replica's Redis connections do not grow with its channels.
+subscriber or per channel, and the replica's Redis connections do not grow with its channels.
 
 While Redis cannot be reached, every operation raises `Unavailable` (503 with Retry-After to a
 publisher): nothing is half-done, and the reader retries on its own.
@@ -46,10 +50,13 @@ from server.relay.backend import Backend, BackendConfig
 from server.relay.errors import Unavailable
 from server.relay.ids import parse_message_id
 from server.relay.messages import DELETED, Backlog, ChannelInfo, Published, StoredMessage
+from server.relay.redis_batch import ScriptBatcher
 from server.relay.redis_reader import (
     DELETED_PART,
+    NEWS_DATA_MAX,
     NEWS_KEPT,
     NEWS_KEY,
+    NEWS_SEQUENCE_KEY,
     REDIS_DOWN,
     Entries,
     ReplicaReader,
@@ -64,6 +71,8 @@ HEARTBEAT_S = 5.0
 ALIVE_S = 15.0
 IDLE_KEY_S = 86400  # a channel's keys outlive its last message by this long
 COMMAND_CONNECTIONS = 64
+PUBLISH_PIPELINES = 2  # publishes on their way to Redis at once, in pipelines of at most
+PUBLISH_BATCH = 256  # this many (see `server.relay.redis_batch`)
 DELETED_KEPT_S = 60  # a deleted stream stays readable this long for the replicas' readers
 RETRY_AFTER_S = 1
 
@@ -120,8 +129,8 @@ local function subscribers(subs, replicas, now, alive)
 end
 """
 
-# KEYS: stream meta subs replicas news
-# ARGV: maxlen ttl maxbytes alive idle_s content_type data event channel news_kept
+# KEYS: stream meta subs replicas news news_sequence
+# ARGV: maxlen ttl maxbytes alive idle_s content_type data event channel news_kept news_data_max
 _PUBLISH = (
     _LUA_HELPERS
     + """
@@ -137,7 +146,11 @@ if ARGV[8] ~= '' then
   table.insert(fields, ARGV[8])
 end
 local id = redis.call('XADD', KEYS[1], seconds .. '-*', unpack(fields))
-redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[10], '*', 'c', ARGV[9])
+local news = {'ch', ARGV[9], 'n', redis.call('INCR', KEYS[6]), 'id', id}
+if #ARGV[7] <= tonumber(ARGV[11]) then
+  for i = 1, #fields do table.insert(news, fields[i]) end
+end
+redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[10], '*', unpack(news))
 redis.call('HSET', KEYS[2], 'last', id)
 redis.call('HINCRBY', KEYS[2], 'bytes', string.len(ARGV[7]))
 evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]), tonumber(ARGV[3]))
@@ -150,15 +163,20 @@ return {id, string.format('%.6f', now), redis.call('XLEN', KEYS[1]), requested,
 )
 
 # KEYS: stream meta; ARGV: maxlen ttl maxbytes start(XRANGE bound) count
+# Returns the entries, the newest evicted id, whether more entries follow (the one entry read
+# to know it stays in Redis: a backlog page of large messages crosses the wire once).
 _READ_SINCE = (
     _LUA_HELPERS
     + """
-if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false} end
+if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false, 0} end
 local now = clock()
 redis.call('HSET', KEYS[2], 'requested', string.format('%.6f', now))
 evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]), tonumber(ARGV[3]))
-return {redis.call('XRANGE', KEYS[1], ARGV[4], '+', 'COUNT', ARGV[5]),
-  redis.call('HGET', KEYS[2], 'evicted')}
+local count = tonumber(ARGV[5])
+local entries = redis.call('XRANGE', KEYS[1], ARGV[4], '+', 'COUNT', count + 1)
+local more = #entries > count
+if more then entries[#entries] = nil end
+return {entries, redis.call('HGET', KEYS[2], 'evicted'), more and 1 or 0}
 """
 )
 
@@ -176,7 +194,8 @@ return {messages, meta[2] or '', subs, meta[1] or '', string.format('%.6f', now)
 """
 )
 
-# KEYS: stream meta subs replicas news deleted; ARGV: alive channel replica news_kept grave_s
+# KEYS: stream meta subs replicas news deleted news_sequence
+# ARGV: alive channel replica news_kept grave_s
 # The stream is kept a little while as `deleted`, so that every replica can still deliver the
 # messages published before the delete, then the close.
 _DELETE = (
@@ -190,7 +209,8 @@ if redis.call('EXISTS', KEYS[1]) == 1 then
   redis.call('EXPIRE', KEYS[6], ARGV[5])
 end
 redis.call('DEL', KEYS[3])
-redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[4], '*', 'c', ARGV[2], 'r', ARGV[3])
+redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[4], '*',
+  'ch', ARGV[2], 'n', redis.call('INCR', KEYS[7]), 'r', ARGV[3])
 return existed and 1 or 0
 """
 )
@@ -275,7 +295,7 @@ class RedisBackend(Backend):
         self._reader = ReplicaReader(
             url, self.replica, self._redis, self._fan_out_entries, self._deleted_elsewhere
         )
-        self._publish = self._redis.register_script(_PUBLISH)
+        self._publish = ScriptBatcher(self._redis, _PUBLISH, PUBLISH_PIPELINES, PUBLISH_BATCH)
         self._read_since = self._redis.register_script(_READ_SINCE)
         self._info_script = self._redis.register_script(_INFO)
         self._delete = self._redis.register_script(_DELETE)
@@ -295,8 +315,15 @@ class RedisBackend(Backend):
         keys = _keys(channel)
         with _store_errors():
             reply = await self._publish(
-                keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY, NEWS_KEY],
-                args=[
+                [
+                    keys["stream"],
+                    keys["meta"],
+                    keys["subs"],
+                    REPLICAS_KEY,
+                    NEWS_KEY,
+                    NEWS_SEQUENCE_KEY,
+                ],
+                [
                     *self._bounds,
                     ALIVE_S,
                     IDLE_KEY_S,
@@ -305,6 +332,7 @@ class RedisBackend(Backend):
                     event or "",
                     channel,
                     NEWS_KEPT,
+                    NEWS_DATA_MAX,
                 ],
             )
         stream_id, now, messages, requested, subscribers = reply
@@ -324,16 +352,16 @@ class RedisBackend(Backend):
         start = "-" if last_id is None else "(" + _to_stream_id(last_id)
         keys = _keys(channel)
         with _store_errors():
-            entries, evicted = await self._read_since(
-                keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start, limit + 1]
+            entries, evicted, more = await self._read_since(
+                keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start, limit]
             )
-        messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries[:limit]]
+        messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries]
         gap = (
             last_id is not None
             and bool(evicted)
             and parse_message_id(_to_message_id(evicted)) > parse_message_id(last_id)
         )
-        return Backlog(messages=messages, gap=gap, more=len(entries) > limit)
+        return Backlog(messages=messages, gap=gap, more=bool(more))
 
     async def info(self, channel: str) -> ChannelInfo | None:
         keys = _keys(channel)
@@ -355,6 +383,7 @@ class RedisBackend(Backend):
                     REPLICAS_KEY,
                     NEWS_KEY,
                     channel_key(channel, DELETED_PART),
+                    NEWS_SEQUENCE_KEY,
                 ],
                 args=[ALIVE_S, channel, self.replica, NEWS_KEPT, DELETED_KEPT_S],
             )

@@ -1,22 +1,26 @@
 """One blocking Redis reader per replica, for all of the replica's channels.
 
-Every publish and every delete, from any replica, also appends a small entry to one stream,
-`relay:news`: the channel's name (and, for a delete, the deleting replica). Each replica blocks
-on that single stream with one `XREAD` on one connection, whatever its number of channels. When
-news arrives, it fetches the new entries of those of its channels that have some, in one
-pipelined round trip (`XRANGE` after the newest id it holds for each), and hands each message to
-its local subscribers. A thousand channels cost one blocked read and one fetch per batch of
-news, not a thousand reads; Redis' connection count per replica is fixed (this reader plus the
-backend's command pool), and a new channel needs no wake-up: its position is recorded and the
-next news about it is read like any other.
+Every publish and every delete, from any replica, also appends an entry to one stream,
+`relay:news`, in the order Redis executed them: the channel's name, a sequence number, and for
+a publish the message's stream id and, unless it is larger than `NEWS_DATA_MAX`, the message
+itself (for a delete, the deleting replica instead). Each replica blocks on that single stream
+with one `XREAD` on one connection, whatever its number of channels, and hands each message of
+its channels to their local subscribers straight from the news: one round trip per batch of
+news, none per message or per channel. Only a message too large to travel in the news is
+fetched from its channel's stream (`XRANGE` after the newest id held for the channel, pipelined
+for every such channel of the batch). Redis' connection count per replica is fixed (this reader
+plus the backend's command pool), and a new channel needs no wake-up: its position is recorded
+and the next news about it is read like any other.
 
-The per-channel positions are the truth; the news only says where to look. So nothing is lost
-when news is: after a Redis outage, or if the news stream was trimmed past the reader's position
-(it keeps about `NEWS_KEPT` entries), the reader sweeps every local channel from its position.
-Entries of a channel read for an earlier generation of its subscribers are dropped (`Position`
-identity), and a channel's entries are always delivered in stream order, each once. A delete
-renames the channel's stream to `relay:{c}:deleted` for a minute: a reader delivers what it
-had not yet read from there, then closes the channel's subscribers.
+The per-channel positions are the truth; the news only carries copies. Every channel's entries
+are delivered in stream order, each once: an entry not newer than the channel's position is
+dropped, and entries of a channel read for an earlier generation of its subscribers are dropped
+too (`Position` identity). Nothing is lost when news is: the sequence numbers are consecutive,
+so a reader sees when entries it had not read were trimmed (the stream keeps about `NEWS_KEPT`
+of them), or when Redis came back without them, and after that, and after a Redis outage, it
+sweeps every local channel from its position. A delete renames the channel's stream to
+`relay:{c}:deleted` for a minute: a reader delivers what it had not yet read from there, then
+closes the channel's subscribers.
 """
 
 from __future__ import annotations
@@ -35,15 +39,27 @@ from redis.exceptions import TimeoutError as RedisTimeoutError
 log = logging.getLogger(__name__)
 
 NEWS_KEY = "relay:news"
+NEWS_SEQUENCE_KEY = "relay:news:sequence"  # the sequence number of the newest news entry
 DELETED_PART = "deleted"  # a deleted channel's stream, kept briefly under this name
-NEWS_KEPT = 100_000  # entries of the news stream kept (approximately)
+# Entries of the news stream kept (approximately), and the largest message copied into one:
+# what the news holds beside the channels' own buffers stays below about 80 MB.
+NEWS_KEPT = 10_000
+NEWS_DATA_MAX = 8 * 1024
 READ_BLOCK_MS = 30_000  # an idle reader re-blocks this often
 READ_BATCH = 1024  # news entries per read, and messages per channel per fetch
 RECONNECT_MAX_S = 1.0
 STOP_S = 1.0
 REDIS_DOWN = (RedisConnectionError, RedisTimeoutError, OSError)
 
-Entries = list[tuple[bytes, dict[bytes, bytes]]]
+Fields = dict[bytes, bytes]
+Entries = list[tuple[bytes, Fields]]
+
+# Where the news ends now: its newest entry id and sequence number, read together.
+# KEYS: news sequence
+_NEWS_END = """
+local newest = redis.call('XREVRANGE', KEYS[1], '+', '-', 'COUNT', 1)[1]
+return {newest and newest[1] or '0-0', redis.call('GET', KEYS[2]) or '0'}
+"""
 
 
 def channel_key(channel: str, part: str) -> str:
@@ -73,10 +89,19 @@ def cancelled() -> bool:
 class Position:
     """The newest stream id read for one channel, for one generation of its subscribers."""
 
-    __slots__ = ("stream_id",)
+    __slots__ = ("order", "stream_id")
 
     def __init__(self, stream_id: bytes) -> None:
         self.stream_id = stream_id
+        self.order = stream_order(stream_id)
+
+    def advance(self, entries: Entries) -> Entries:
+        """The entries newer than the position, which moves past them."""
+        fresh = [entry for entry in entries if stream_order(entry[0]) > self.order]
+        if fresh:
+            self.stream_id = fresh[-1][0]
+            self.order = stream_order(self.stream_id)
+        return fresh
 
 
 class ReplicaReader:
@@ -102,8 +127,10 @@ class ReplicaReader:
             socket_keepalive=True,
             driver_info=None,
         )
+        self._news_end = commands.register_script(_NEWS_END)
         self._positions: dict[str, Position] = {}
         self._news_at = b"0-0"
+        self._next_sequence = 1  # of the news entry after `_news_at`
         self._sweep = False  # news may have been missed: fetch every channel
         self._task: asyncio.Task[None] | None = None
         self._starting = asyncio.Lock()
@@ -127,8 +154,8 @@ class ReplicaReader:
         async with self._starting:
             if self._task is not None:
                 return
-            newest = await self._commands.xrevrange(NEWS_KEY, count=1)
-            self._news_at = newest[0][0] if newest else b"0-0"
+            self._news_at, sequence = await self._news_end(keys=[NEWS_KEY, NEWS_SEQUENCE_KEY])
+            self._next_sequence = int(sequence) + 1
             self._task = asyncio.create_task(self._loop(), name=f"relay-reader-{self.replica}")
 
     async def close(self) -> None:
@@ -167,67 +194,59 @@ class ReplicaReader:
             delay = min(delay * 2, RECONNECT_MAX_S)
 
     async def _read_news(self) -> None:
-        read_from = self._news_at
         reply = await self._client.xread(
-            {NEWS_KEY: read_from}, count=READ_BATCH, block=READ_BLOCK_MS
+            {NEWS_KEY: self._news_at}, count=READ_BATCH, block=READ_BLOCK_MS
         )
         if cancelled() or not reply:
             return
         entries = reply[0][1]
         self._news_at = entries[-1][0]
-        with_news: dict[str, None] = {}  # ordered, without repeats
-        deleted = []
+        # Consecutive sequence numbers: nothing unread was trimmed, Redis lost nothing.
+        lost = int(entries[0][1][b"n"]) != self._next_sequence
+        self._next_sequence = int(entries[-1][1][b"n"]) + 1
+        if lost:
+            await self._fetch(list(self._positions))
+        await self._deliver_news(entries)
+
+    async def _deliver_news(self, entries: Entries) -> None:
+        """Hand on the messages of the news that concern this replica's channels, in order."""
+        to_fetch: dict[str, None] = {}  # channels with a message too large for the news
         for _, fields in entries:
-            channel = fields[b"c"].decode()
-            if channel not in self._positions:
+            channel = fields[b"ch"].decode()
+            at = self._positions.get(channel)
+            if at is None:
                 continue
-            if b"r" in fields:
+            if b"r" in fields:  # a delete
+                to_fetch.pop(channel, None)  # what it had not read is in the deleted stream
                 if fields[b"r"].decode() != self.replica:  # our own deletes closed at once
-                    deleted.append(channel)
-            else:
-                with_news[channel] = None
-        if await self._fetch(with_news, trimmed_after=read_from):
-            await self._fetch(list(self._positions))  # news was lost: sweep everything
-        await self._fetch(deleted, part=DELETED_PART)
-        for channel in deleted:  # after the messages published before the delete
-            self._on_deleted(channel)
+                    await self._fetch([channel], part=DELETED_PART)
+                    self._on_deleted(channel)
+            elif b"d" not in fields:
+                to_fetch[channel] = None  # it and the channel's later news: fetched below
+            elif channel not in to_fetch:
+                self._deliver(channel, at, [(fields[b"id"], fields)])
+        await self._fetch(to_fetch)
 
-    async def _fetch(
-        self, channels: Iterable[str], trimmed_after: bytes | None = None, part: str = "stream"
-    ) -> bool:
+    async def _fetch(self, channels: Iterable[str], part: str = "stream") -> None:
         """Fetch and deliver the new entries of `channels` (all of them, page after page) from
-        their streams (or, with `part`, their deleted streams).
-
-        With `trimmed_after`, also say whether the news stream no longer holds the entry after
-        that id (it was trimmed while unread): True means some news was lost.
-        """
+        their streams (or, with `part`, their deleted streams)."""
         pending = [(name, self._positions[name]) for name in channels if name in self._positions]
-        trimmed = False
-        while pending or trimmed_after is not None:
+        while pending:
             async with self._commands.pipeline(transaction=False) as pipe:
                 for channel, at in pending:
                     key = channel_key(channel, part)
                     pipe.xrange(key, b"(" + at.stream_id, "+", count=READ_BATCH)
-                if trimmed_after is not None:
-                    pipe.xrange(NEWS_KEY, "-", "+", count=1)
                 replies = await pipe.execute()
-            if trimmed_after is not None:
-                oldest = replies.pop()
-                trimmed = bool(oldest) and stream_order(oldest[0][0]) > stream_order(trimmed_after)
-                trimmed_after = None
             full = []
             for (channel, at), entries in zip(pending, replies, strict=True):
                 self._deliver(channel, at, entries)
                 if len(entries) == READ_BATCH:
                     full.append((channel, at))
             pending = full
-        return trimmed
 
     def _deliver(self, channel: str, at: Position, entries: Entries) -> None:
         if self._positions.get(channel) is not at:
             return  # unsubscribed meanwhile (perhaps subscribed again from a newer position)
-        newest = stream_order(at.stream_id)
-        fresh = [entry for entry in entries if stream_order(entry[0]) > newest]
+        fresh = at.advance(entries)
         if fresh:
-            at.stream_id = fresh[-1][0]
             self._on_messages(channel, fresh)

@@ -13,7 +13,7 @@ from collections.abc import AsyncIterator, Callable
 import pytest
 import redis.asyncio as aioredis
 
-from server.relay import redis_backend
+from server.relay import redis_backend, redis_reader
 from server.relay.backend import BackendConfig, Start
 from server.relay.ids import parse_message_id
 from server.relay.messages import ChannelClosed, Event, Gap, StoredMessage
@@ -284,3 +284,96 @@ async def test_malformed_resume_id_is_refused(make_backend: MakeBackend, bad: st
     with pytest.raises(ValueError):
         await backend.subscribe("game", Collector(), last_id=bad)
     assert backend.local_subscribers("game") == 0
+
+
+class HeldReads:
+    """Holds a replica's news reader before its next XREAD until `release`, so that a test can
+    change Redis while the reader is behind (its reads are real once released)."""
+
+    def __init__(self, backend: RedisBackend) -> None:
+        self._gate = asyncio.Event()
+        client = backend._reader._client
+        real = client.xread
+
+        async def held(*args: object, **kwargs: object) -> object:
+            await self._gate.wait()
+            return await real(*args, **kwargs)
+
+        client.xread = held  # type: ignore[method-assign]
+
+    def release(self) -> None:
+        self._gate.set()
+
+
+async def test_news_trimmed_before_it_was_read_loses_no_message(
+    make_backend: MakeBackend, redis_url: str
+) -> None:
+    """The reader sees from the news' sequence numbers that entries it never read are gone,
+    and reads its channels' own streams instead of skipping to the news that is left."""
+    backend = make_backend()
+    held = HeldReads(backend)
+    sink = Collector()
+    await backend.subscribe("game", sink, start=Start.NEWEST)
+    ids = await publish_many(backend, "game", 3)
+    admin = aioredis.from_url(redis_url)
+    await admin.xtrim("relay:news", maxlen=0)  # as if trimmed while this reader lagged
+    await admin.aclose()
+    ids += await publish_many(backend, "game", 2, start=3)
+
+    held.release()
+    await sink.wait_for(5)
+    await asyncio.sleep(0.1)  # room for a duplicate to show up
+    assert sink.ids == ids
+
+
+async def test_messages_too_large_for_the_news_keep_their_place(make_backend: MakeBackend):
+    """Small messages come with the news, large ones are fetched from the channel's stream:
+    one batch of news mixing both still delivers each once, in order."""
+    backend = make_backend()
+    held = HeldReads(backend)
+    sink, other = Collector(), Collector()
+    await backend.subscribe("game", sink, start=Start.NEWEST)
+    await backend.subscribe("lobby", other, start=Start.NEWEST)
+    large = b"x" * (redis_reader.NEWS_DATA_MAX + 1)
+    bodies = [b"1", large + b"2", b"3", b"4", large + b"5", b"6"]
+    ids = []
+    for body in bodies:
+        ids.append((await backend.publish("game", body, "text/plain")).message.id)
+        await backend.publish("lobby", body[-1:], "text/plain")
+
+    held.release()
+    await sink.wait_for(len(bodies))
+    await other.wait_for(len(bodies))
+    await asyncio.sleep(0.1)
+    assert sink.ids == ids
+    assert [event.data for event in sink.events] == bodies
+    assert [event.data for event in other.events] == [body[-1:] for body in bodies]
+
+
+async def test_concurrent_publishes_each_get_their_own_id(make_backend: MakeBackend):
+    """Publishes made at once go to Redis in one pipeline, in the order they were made."""
+    backend = make_backend()
+    sink = Collector()
+    await backend.subscribe("game", sink, start=Start.NEWEST)
+    published = await asyncio.gather(
+        *(backend.publish("game", b"%d" % n, "text/plain") for n in range(50))
+    )
+    ids = [result.message.id for result in published]
+    keys = [parse_message_id(message_id) for message_id in ids]
+    assert keys == sorted(keys) and len(set(keys)) == 50
+    await sink.wait_for(50)
+    assert [event.data for event in sink.events] == [b"%d" % n for n in range(50)]
+    assert [result.info.messages for result in published] == list(range(1, 51))
+
+
+async def test_publish_survives_a_flushed_script_cache(
+    make_backend: MakeBackend, redis_url: str
+) -> None:
+    backend = make_backend()
+    first = await backend.publish("game", b"1", "text/plain")
+    admin = aioredis.from_url(redis_url)
+    await admin.script_flush()
+    await admin.aclose()
+    second = await asyncio.gather(*(backend.publish("game", b"2", "text/plain") for _ in range(3)))
+    assert [result.info.messages for result in second] == [2, 3, 4]
+    assert parse_message_id(second[0].message.id) > parse_message_id(first.message.id)
