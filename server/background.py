@@ -14,6 +14,10 @@ async def running(loop: Callable[[], Awaitable[None]]) -> AsyncIterator[None]:
     try:
         yield
     finally:
-        task.cancel()
+        # Cancel until it ends: a library call racing a timeout can swallow one cancellation
+        # (seen with the table expiry sweep's first storage call), and the loop would go on.
+        while not task.done():
+            task.cancel()
+            await asyncio.wait({task}, timeout=1.0)
         with contextlib.suppress(asyncio.CancelledError):
             await task
