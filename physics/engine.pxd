@@ -33,6 +33,7 @@ cdef class Simulation:
     cpdef Py_ssize_t work(self)
     cdef _set_motion(self, _Ball b, tuple v, tuple w)
     cdef _record(self, _Ball b)
+    cdef _emit(self, str kind, tuple balls, object cushion=*, object pocket=*)
     cdef _push(self, double t, str kind, Py_ssize_t i, Py_ssize_t j=*, object data=*)
     @cython.locals(k=Py_ssize_t, i=Py_ssize_t, j=Py_ssize_t, bi=_Ball, other=_Ball)
     cdef _predict(self, tuple changed)
@@ -54,6 +55,9 @@ cdef class Simulation:
     @cython.locals(bi=_Ball, bj=_Ball, dx=cython.double, dy=cython.double, d=cython.double,
                    vn=cython.double)
     cpdef _collide_balls(self, Py_ssize_t i, Py_ssize_t j)
+    @cython.locals(b=_Ball)
+    cdef _collide_cushion(self, Py_ssize_t i, tuple normal, str kind, object cushion,
+                          object pocket)
     cpdef _transition(self, Py_ssize_t i)
     cdef _spin_stop(self, Py_ssize_t i)
     cdef _pocket(self, Py_ssize_t i, object name)

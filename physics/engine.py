@@ -17,12 +17,12 @@ import heapq
 import math
 from collections.abc import Callable
 
-from physics import motion, roots
+from physics import motion, records, roots
 from physics.ball_ball import BALL_BALL_MODELS
 from physics.cushion import CUSHION_MODELS
 from physics.motion import POCKETED, ROLLING, SLIDING, SPINNING, STATIONARY
 from physics.scene import Scene
-from physics.trajectory import BallFinal, Event, ModelsUsed, Segment, Shot
+from physics.trajectory import ModelsUsed, Shot
 
 #: A contact within this gap (m) is a touching contact, decided at the present.
 TOUCH_GAP = 1e-11
@@ -142,7 +142,8 @@ class Simulation:
         self.heap: list[tuple] = []
         self.seq = 0
         self.now = 0.0
-        self.events: list[Event] = []
+        #: The events so far, as records (physics.records builds the Shot's models at the end).
+        self.events: list[records.EventRecord] = []
         #: What the shot cost: possible contacts with balls and round things (jaws, pockets)
         #: looked at, and how many of those were not culled and needed a quartic solved.
         self.contacts_checked = 0
@@ -177,8 +178,14 @@ class Simulation:
     def _record(self, b: _Ball) -> None:
         b.segments.append((b.t0, b.state, (b.x, b.y), (b.vx, b.vy), (b.ax, b.ay), b.w, b.dw))
 
-    def _emit(self, kind: str, balls: tuple[str, ...], **extra: str) -> None:
-        self.events.append(Event.trusted(self.now, kind, balls, **extra))
+    def _emit(
+        self,
+        kind: str,
+        balls: tuple[str, ...],
+        cushion: str | None = None,
+        pocket: str | None = None,
+    ) -> None:
+        self.events.append((self.now, kind, balls, cushion, pocket))
 
     # -- prediction ----------------------------------------------------------------------
 
@@ -312,7 +319,9 @@ class Simulation:
         self._emit("ball_ball", (bi.name, bj.name))
         self._predict((i, j))
 
-    def _collide_cushion(self, i: int, normal: tuple[float, float], kind: str, **names) -> None:
+    def _collide_cushion(
+        self, i: int, normal: tuple[float, float], kind: str, cushion: str, pocket: str | None
+    ) -> None:
         b = self.balls[i]
         b.advance(self.now)
         v = (b.vx, b.vy)
@@ -340,7 +349,7 @@ class Simulation:
                     v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
                     w_new = motion.rolling_spin(v_new, w_new[2], self.p.R)
         self._set_motion(b, v_new, w_new)
-        self._emit(kind, (b.name,), **names)
+        self._emit(kind, (b.name,), cushion, pocket)
         self._predict((i,))
 
     def _rest(self, va, wa, vb, wb, n):
@@ -468,7 +477,7 @@ class Simulation:
         b.t_own = math.inf
         b.version += 1
         self._record(b)
-        self._emit("ball_pocket", (b.name,), pocket=name)
+        self._emit("ball_pocket", (b.name,), None, name)
 
     # -- the loop ------------------------------------------------------------------------
 
@@ -510,15 +519,13 @@ class Simulation:
             elif kind == "spin":
                 self._spin_stop(i)
             elif kind == "cushion":
-                self._collide_cushion(i, data.normal, "ball_cushion", cushion=data.name)
+                self._collide_cushion(i, data.normal, "ball_cushion", data.name, None)
             elif kind == "jaw":
                 b = balls[i]
                 b.advance(t)
                 dx, dy = b.x - data.center[0], b.y - data.center[1]
                 d = math.hypot(dx, dy)
-                self._collide_cushion(
-                    i, (dx / d, dy / d), "ball_jaw", cushion=data.name, pocket=data.pocket
-                )
+                self._collide_cushion(i, (dx / d, dy / d), "ball_jaw", data.name, data.pocket)
             else:
                 self._pocket(i, data.name)
         return self._result()
@@ -530,22 +537,15 @@ class Simulation:
         for b in self.balls:
             if b.state != POCKETED:
                 b.advance(end)
-            final[b.name] = BallFinal.model_construct(
-                pos=None if b.state == POCKETED else (b.x, b.y), state=b.state, pocket=b.pocket
-            )
-            trajectories[b.name] = [Segment.trusted(*s) for s in b.segments]
-        return Shot.model_construct(
-            events=self.events,
-            trajectories=trajectories,
-            final=final,
-            duration=end,
-            models=ModelsUsed(
-                ball_ball=self.models.ball_ball,
-                cushion=self.models.cushion,
-                spin=self.spin,
-                cushion_height=self.geometry.spec.cushion_height,
-            ),
+            final[b.name] = (None if b.state == POCKETED else (b.x, b.y), b.state, b.pocket)
+            trajectories[b.name] = b.segments
+        models = ModelsUsed(
+            ball_ball=self.models.ball_ball,
+            cushion=self.models.cushion,
+            spin=self.spin,
+            cushion_height=self.geometry.spec.cushion_height,
         )
+        return records.shot(self.events, trajectories, final, end, models)
 
 
 def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
