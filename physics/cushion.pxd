@@ -10,8 +10,19 @@ ctypedef (double, double, double, double, double, double) State
 
 
 cdef class _Impact:
-    cdef public double s, c, eps, eps2, snap2, grip_i, grip_c, mu_w, mu_s
-    cdef public object forces
+    cdef public double s, c, eps, eps2, snap2, grip_i, grip_c, mu_w, mu_s, det_both
+
+    @cython.locals(s=cython.double, c=cython.double, eps=cython.double, mu_w=cython.double,
+                   mu_s=cython.double, slip_i=cython.double, slip_c=cython.double,
+                   fix=cython.double, fiy=cython.double, fcx=cython.double, fcy=cython.double,
+                   ux=cython.double, uy=cython.double, k=cython.double, n_c=cython.double,
+                   ax=cython.double, ay=cython.double, drive=cython.double)
+    cdef (double, double, double, double) forces(self, double x_i, double y_i, double x_c,
+                                                 double y_c)
+    @cython.locals(s=cython.double, c=cython.double, mu_s=cython.double, n_c=cython.double,
+                   ax=cython.double, ay=cython.double, drive=cython.double)
+    cdef (double, double) _cloth(self, double fix, double fiy, double x_c, double y_c,
+                                 double slip_c)
 
     @cython.locals(s=cython.double, c=cython.double, eps=cython.double, mu_w=cython.double,
                    mu_s=cython.double, x_i=cython.double, y_i=cython.double,
