@@ -10,7 +10,8 @@ cdef object _first_contact(tuple c, double gap, double contact, double horizon)
 
 
 cdef class _Ball:
-    cdef public object name, state, pocket
+    cdef public str name, state
+    cdef public object pocket
     cdef public double t0, x, y, vx, vy, ax, ay, t_own
     cdef public tuple w, dw
     cdef public Py_ssize_t version
@@ -37,7 +38,8 @@ cdef class Simulation:
     cdef _push(self, double t, str kind, Py_ssize_t i, Py_ssize_t j=*, object data=*)
     @cython.locals(k=Py_ssize_t, i=Py_ssize_t, j=Py_ssize_t, bi=_Ball, other=_Ball)
     cdef _predict(self, tuple changed)
-    @cython.locals(b=_Ball, now=cython.double)
+    @cython.locals(b=_Ball, now=cython.double, t_spin=cython.double, first=tuple,
+                   contact=tuple)
     cdef _predict_own(self, Py_ssize_t i)
     @cython.locals(R=cython.double, now=cython.double, x=cython.double, y=cython.double,
                    vx=cython.double, vy=cython.double, ax=cython.double, ay=cython.double,
@@ -61,3 +63,7 @@ cdef class Simulation:
     cpdef _transition(self, Py_ssize_t i)
     cdef _spin_stop(self, Py_ssize_t i)
     cdef _pocket(self, Py_ssize_t i, object name)
+    @cython.locals(t=cython.double, kind=str, i=Py_ssize_t, j=Py_ssize_t, vi=Py_ssize_t,
+                   vj=Py_ssize_t, count=Py_ssize_t, b=_Ball, dx=cython.double,
+                   dy=cython.double, d=cython.double, heap=list, balls=list)
+    cpdef run(self)

@@ -222,7 +222,9 @@ class Simulation:
         if b.state in (SLIDING, ROLLING, SPINNING):
             first = (now + motion.transition_time(b.state, (b.vx, b.vy), b.w, p), "motion", None)
             if b.state != SPINNING:
-                first = min(first, self._table_contact(b, first[0] - now), key=_time)
+                contact = self._table_contact(b, first[0] - now)
+                if contact[0] < first[0]:
+                    first = contact
                 t_spin = now + motion.spin_stop_time(b.w, p)
                 if t_spin < first[0]:
                     self._push(t_spin, "spin", i)
@@ -555,7 +557,3 @@ def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: fl
             return 0.0  # touching and approaching: now
         return roots.first_return(c, horizon, 2.0 * contact * REST_DEPTH)
     return roots.first_entry(c, horizon)
-
-
-def _time(prediction: tuple) -> float:
-    return prediction[0]

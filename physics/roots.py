@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import math
 
+from physics import pymath
+
 _NEWTON_ITERS = 60
 
 
@@ -124,8 +126,7 @@ def path_misses(
     s = 0.0
     if chord2 > 0.0:
         s = min(1.0, max(0.0, -(px * cx + py * cy) / chord2))
-    sag = 0.125 * math.hypot(ax, ay) * h * h
-    return math.hypot(px + s * cx, py + s * cy) - sag > clearance
+    return pymath.clears(px + s * cx, py + s * cy, ax, ay, h, clearance)
 
 
 def first_entry_quadratic(c0: float, c1: float, c2: float, hi: float, skip: float = 0.0):
