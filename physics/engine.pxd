@@ -66,4 +66,4 @@ cdef class Simulation:
     @cython.locals(t=cython.double, kind=str, i=Py_ssize_t, j=Py_ssize_t, vi=Py_ssize_t,
                    vj=Py_ssize_t, count=Py_ssize_t, b=_Ball, dx=cython.double,
                    dy=cython.double, d=cython.double, heap=list, balls=list)
-    cpdef run(self)
+    cdef _loop(self)

@@ -6,8 +6,8 @@ processes as the same tuples (Shot.__reduce__) and are built again here. A full 
 hundred models, and pydantic's general `model_construct` (aliases, defaults, private
 attributes) costs several times what these models need, which is only their fields' values
 and the names of those given: `_trusted` sets exactly that (tests/physics_kernel/test_records.py
-checks that the two agree). In the compiled kernel `object.__setattr__` is the C API's
-PyObject_GenericSetAttr, the same thing without the Python call (physics/cobject.pxd).
+checks that the two agree). In the compiled kernel `object.__new__` and `object.__setattr__`
+are the C functions they call, without the Python calls (physics/cobject.pxd).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ _SEGMENT_FIELDS = frozenset(Segment.model_fields)
 def _trusted(cls: type, values: dict[str, Any], given: set[str]) -> Any:
     """What `cls.model_construct(**given values)` makes, from `values` holding every field and
     `given`, the names of those passed (a set of its own, as model_construct's is)."""
-    m = cls.__new__(cls)
+    m = object.__new__(cls)
     object.__setattr__(m, "__dict__", values)
     object.__setattr__(m, "__pydantic_fields_set__", given)
     object.__setattr__(m, "__pydantic_extra__", None)
