@@ -32,6 +32,8 @@ cdef class Simulation:
     cdef public Py_ssize_t seq, contacts_checked, quartics_solved
 
     cpdef Py_ssize_t work(self)
+    cpdef tuple run_records(self)
+    cdef tuple _records(self)
     cdef _set_motion(self, _Ball b, tuple v, tuple w)
     cdef _record(self, _Ball b)
     cdef _emit(self, str kind, tuple balls, object cushion=*, object pocket=*)
