@@ -60,8 +60,8 @@ cdef class Simulation:
                    vn=cython.double)
     cpdef _collide_balls(self, Py_ssize_t i, Py_ssize_t j)
     @cython.locals(b=_Ball)
-    cdef _collide_cushion(self, Py_ssize_t i, tuple normal, str kind, object cushion,
-                          object pocket)
+    cpdef _collide_cushion(self, Py_ssize_t i, tuple normal, str kind, object cushion,
+                           object pocket)
     cpdef _transition(self, Py_ssize_t i)
     cdef _spin_stop(self, Py_ssize_t i)
     cdef _pocket(self, Py_ssize_t i, object name)

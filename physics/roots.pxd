@@ -16,7 +16,7 @@ cpdef list _quadratic_roots(double c0, double c1, double c2)
                _=cython.int)
 cpdef double _refine(tuple c, tuple dc, double lo, double hi) except? -1.0
 @cython.locals(p=cython.double)
-cpdef list critical_points(tuple c, double hi)
+cpdef list critical_points(tuple dc, double hi)
 @cython.locals(f_prev=cython.double, f_b=cython.double, a=cython.double, b=cython.double,
                k=Py_ssize_t)
 cpdef list all_roots(tuple c, double hi)
