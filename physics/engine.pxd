@@ -26,7 +26,7 @@ cdef class _Ball:
 cdef class Simulation:
     cdef public object scene, p, models, ball_ball, cushion, geometry
     cdef public bint spin
-    cdef public double sin_theta, now
+    cdef public double sin_theta, now, diameter
     cdef public list balls, heap, events, cushion_steps, rails, circles
     cdef public dict index
     cdef public Py_ssize_t seq, contacts_checked, quartics_solved
@@ -37,8 +37,10 @@ cdef class Simulation:
     cdef _set_motion(self, _Ball b, tuple v, tuple w)
     cdef _record(self, _Ball b)
     cdef _emit(self, str kind, tuple balls, object cushion=*, object pocket=*)
+    @cython.locals(bi=_Ball, bj=_Ball, vj=Py_ssize_t)
     cdef _push(self, double t, str kind, Py_ssize_t i, Py_ssize_t j=*, object data=*)
-    @cython.locals(k=Py_ssize_t, i=Py_ssize_t, j=Py_ssize_t, bi=_Ball, other=_Ball)
+    @cython.locals(k=Py_ssize_t, i=Py_ssize_t, j=Py_ssize_t, bi=_Ball, other=_Ball,
+                   earlier=tuple)
     cdef _predict(self, tuple changed)
     @cython.locals(b=_Ball, now=cython.double, t_spin=cython.double, first=tuple,
                    contact=tuple)

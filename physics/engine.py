@@ -50,8 +50,6 @@ MAX_EVENTS = 2_000
 MAX_WORK = 40_000
 CUSHION_STEP_WORK = 2
 
-_MOVING = (SLIDING, ROLLING)
-
 
 class SimulationError(RuntimeError):
     """The engine could not finish a shot (a bug, or a scene far outside play)."""
@@ -128,6 +126,7 @@ class Simulation:
         self.sin_theta = scene.sin_theta
         self.geometry = g = scene.geometry
         R = scene.params.R
+        self.diameter = 2.0 * R  # where two balls' centres meet
         #: The table as the contact search reads it, unpacked once per shot: each cushion
         #: segment with its start, normal and direction; each jaw (its circle grown by R, which
         #: is where a ball's centre meets it) and pocket with its centre and contact radius.
@@ -190,8 +189,12 @@ class Simulation:
     # -- prediction ----------------------------------------------------------------------
 
     def _push(self, t: float, kind: str, i: int, j: int = -1, data: object = None) -> None:
-        vj = self.balls[j].version if j >= 0 else 0
-        heapq.heappush(self.heap, (t, self.seq, kind, i, j, self.balls[i].version, vj, data))
+        bi = self.balls[i]
+        vj = 0
+        if j >= 0:
+            bj = self.balls[j]
+            vj = bj.version
+        heapq.heappush(self.heap, (t, self.seq, kind, i, j, bi.version, vj, data))
         self.seq += 1
 
     def _predict(self, changed: tuple[int, ...]) -> None:
@@ -205,8 +208,9 @@ class Simulation:
         balls = self.balls
         for k, i in enumerate(changed):
             bi = balls[i]
+            earlier = changed[:k]
             for j, other in enumerate(balls):
-                if j != i and other.state != POCKETED and j not in changed[:k]:
+                if j != i and other.state != POCKETED and j not in earlier:
                     self._predict_pair(i, j, bi, other)
 
     def _predict_own(self, i: int) -> None:
@@ -265,7 +269,7 @@ class Simulation:
         return best
 
     def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
-        if bi.state not in _MOVING and bj.state not in _MOVING:
+        if bi.state not in (SLIDING, ROLLING) and bj.state not in (SLIDING, ROLLING):
             return
         now = self.now
         xj, yj, vxj, vyj = bj.at(now)
@@ -276,7 +280,7 @@ class Simulation:
             vyj - bi.vy,
             bj.ax - bi.ax,
             bj.ay - bi.ay,
-            2.0 * self.p.R,
+            self.diameter,
             min(bi.t_own, bj.t_own) - now,
         )
         if t is not None:
@@ -517,7 +521,8 @@ class Simulation:
         count = 0
         while heap:
             t, _, kind, i, j, vi, vj, data = heapq.heappop(heap)
-            if balls[i].version != vi or (j >= 0 and balls[j].version != vj):
+            b = balls[i]
+            if b.version != vi or (j >= 0 and balls[j].version != vj):
                 continue
             count += 1
             if count > MAX_EVENTS or self.work() > MAX_WORK:
@@ -535,7 +540,6 @@ class Simulation:
             elif kind == "cushion":
                 self._collide_cushion(i, data.normal, "ball_cushion", data.name, None)
             elif kind == "jaw":
-                b = balls[i]
                 b.advance(t)
                 dx, dy = b.x - data.center[0], b.y - data.center[1]
                 d = math.hypot(dx, dy)
