@@ -66,6 +66,16 @@ cpdef tuple mathavan(object v, object w, object normal, object p, double sin_the
                      object work=*)
 @cython.locals(u2=cython.double, u3=cython.double)
 cpdef double _hermite(double f0, double f1, double m0, double m1, double u) except? -1.0
+@cython.locals(a=cython.double, b=cython.double, disc=cython.double, q=cython.double,
+               best=cython.double, peak=cython.double, u=cython.double, value=cython.double,
+               candidates=list)
+cpdef double _hermite_peak(double f0, double f1, double m0, double m1) except? -1.0
+@cython.locals(nx=cython.double, ny=cython.double)
+cpdef tuple _to_cushion(object v, object w, object normal, double R)
+@cython.locals(nx=cython.double, ny=cython.double)
+cpdef tuple _to_table(double vx, double vy, double Wx, double Wy, double Wz, object normal,
+                      double R)
+cpdef bint _leaving(object v, object normal) except -1
 @cython.locals(tol=cython.double, g=cython.double, slope=cython.double, newton=cython.double,
                u2=cython.double)
 cpdef double _hermite_root(double f0, double f1, double m0, double m1, double lo) except? -1.0

@@ -424,9 +424,13 @@ def _hermite_peak(f0: float, f1: float, m0: float, m1: float) -> float:
             candidates.append(m0 / q)
         if a != 0.0:
             candidates.append(q / a)
-    return max(
-        (u for u in candidates if 0.0 <= u <= 1.0), key=lambda u: _hermite(f0, f1, m0, m1, u)
-    )
+    best, peak = 0.0, _hermite(f0, f1, m0, m1, 0.0)
+    for u in candidates[1:]:  # the first largest, as max() finds it
+        if 0.0 <= u <= 1.0:
+            value = _hermite(f0, f1, m0, m1, u)
+            if value > peak:
+                best, peak = u, value
+    return best
 
 
 def _hermite_root(f0: float, f1: float, m0: float, m1: float, lo: float) -> float:
