@@ -34,6 +34,7 @@ cdef class Simulation:
     cpdef Py_ssize_t work(self)
     cpdef tuple run_records(self)
     cdef tuple _records(self)
+    @cython.locals(state=str)
     cdef _set_motion(self, _Ball b, tuple v, tuple w)
     cdef _record(self, _Ball b)
     cdef _emit(self, str kind, tuple balls, object cushion=*, object pocket=*)

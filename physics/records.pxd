@@ -5,7 +5,7 @@ cimport physics.cobject as object
 cdef frozenset _EVENT_FIELDS, _SEGMENT_FIELDS
 
 cdef _trusted(cls, dict values, set given)
-cpdef event(double t, str kind, tuple balls, cushion, pocket)
-cpdef segment(double t, str state, r, v, a, w, dw)
+cpdef event(t, str kind, tuple balls, cushion, pocket)
+cpdef segment(t, str state, r, v, a, w, dw)
 @cython.locals(segs=list, s=tuple, f=tuple, e=tuple)
-cpdef shot(list events, dict trajectories, dict final, double duration, models)
+cpdef shot(list events, dict trajectories, dict final, duration, models)
