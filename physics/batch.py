@@ -39,41 +39,36 @@ def _shutdown() -> None:
     _pools.clear()
 
 
-def simulate_many(
-    scenes: Sequence[Scene | dict[str, Any]], workers: int | None = None
-) -> Sequence[Shot]:
+def simulate_many(scenes: Sequence[Scene | dict[str, Any]], workers: int | None = None) -> Shots:
     """Simulate every scene, in order, on `workers` processes (None: one per core).
 
-    The results are those of `simulate` one by one, in the order of `scenes`; the first scene
-    that fails (SceneError, BudgetExceeded) raises, as it would alone. With one worker, or one
-    scene, the shots run in this process (a list); else they come back as `Shots`.
+    The results are those of `simulate` one by one, in the order of `scenes` (as `Shots`, a
+    sequence); the first scene that fails (SceneError, BudgetExceeded) raises, as it would
+    alone. With one worker, or one scene, the shots run in this process.
     """
-    from physics import simulate  # the package imports this module
-
     if workers is None:
         workers = os.cpu_count() or 1
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
-    with records.PausedCollector():
-        if workers == 1 or len(scenes) <= 1:
-            return [simulate(scene) for scene in scenes]
-        size = max(1, len(scenes) // (4 * workers))
-        chunks = [scenes[k : k + size] for k in range(0, len(scenes), size)]
-        return Shots(list(_pool(workers).map(_simulate_chunk, chunks)), size, len(scenes))
+    if workers == 1 or len(scenes) <= 1:
+        return Shots([_records(scenes)], max(1, len(scenes)), len(scenes))
+    size = max(1, len(scenes) // (4 * workers))
+    chunks = [scenes[k : k + size] for k in range(0, len(scenes), size)]
+    return Shots(list(_pool(workers).map(_simulate_chunk, chunks)), size, len(scenes))
 
 
 class Shots(Sequence[Shot]):
-    """A batch's shots, in order, each built from its worker's records when first read.
+    """A batch's shots, in order, each built from its records when first read.
 
     Building a Shot's models costs the process that reads it a third of what simulating it
-    cost; done for every shot as it arrived, that work in the calling process would hold the
-    whole batch to little more than one core. Once read, a shot is kept.
+    cost; done for every shot as it arrived from the workers, that work in the calling process
+    would hold the whole batch to little more than one core. Once read, a shot is kept.
     """
 
-    def __init__(self, parts: list[bytes], size: int, n: int) -> None:
-        self._parts = parts  # pickled lists of `size` shot records (the last may be shorter)
+    def __init__(self, parts: list[bytes | list[records.ShotRecord]], size: int, n: int) -> None:
+        # Lists of `size` shot records (the last may be shorter), pickled when from a worker.
+        self._parts = parts
         self._size = size
-        self._records: list[list[records.ShotRecord] | None] = [None] * len(parts)
         self._shots: list[Shot | None] = [None] * n
 
     def __len__(self) -> int:
@@ -92,16 +87,21 @@ class Shots(Sequence[Shot]):
             k %= len(self._shots)
             part, at = divmod(k, self._size)
             with records.PausedCollector():
-                if self._records[part] is None:
-                    self._records[part] = pickle.loads(self._parts[part])
-                shot = self._shots[k] = records.shot(*self._records[part][at])
+                if isinstance(self._parts[part], bytes):
+                    self._parts[part] = pickle.loads(self._parts[part])
+                shot = self._shots[k] = records.shot(*self._parts[part][at])
         return shot
 
 
-def _simulate_chunk(scenes: Sequence[Scene | dict[str, Any]]) -> bytes:
-    """A worker's part of a batch: its shots as records (no models built), pickled."""
+def _records(scenes: Sequence[Scene | dict[str, Any]]) -> list[records.ShotRecord]:
+    """The shots of `scenes` as records, no models built (simulate's checks, in order)."""
     with records.PausedCollector():
-        shots = [
+        return [
             Simulation(s if isinstance(s, Scene) else parse_scene(s)).run_records() for s in scenes
         ]
-        return pickle.dumps(shots, pickle.HIGHEST_PROTOCOL)
+
+
+def _simulate_chunk(scenes: Sequence[Scene | dict[str, Any]]) -> bytes:
+    """A worker's part of a batch: its shots' records, pickled (the collector paused)."""
+    with records.PausedCollector():
+        return pickle.dumps(_records(scenes), pickle.HIGHEST_PROTOCOL)

@@ -25,7 +25,7 @@ def test_shots_read_in_any_order():
     scenes = breaks(9)
     alone = [simulate(s).to_msgpack() for s in scenes]
     many = simulate_many(scenes, workers=2)
-    assert len(many) == 9
+    assert len(many) == 9 and len(simulate_many(scenes, workers=1)) == 9
     assert many[-1].to_msgpack() == alone[-1] and many[4].to_msgpack() == alone[4]
     assert [s.to_msgpack() for s in many[1:8:3]] == alone[1:8:3]
     assert many[4] is many[4]  # built once
@@ -45,7 +45,7 @@ def test_workers_at_least_one():
 
 
 def test_empty_batch():
-    assert simulate_many([], workers=2) == []
+    assert list(simulate_many([], workers=2)) == []
 
 
 def test_a_shot_pickles_to_an_equal_shot():
