@@ -1,8 +1,12 @@
-"""physics.records makes what model_construct makes, at less cost."""
+"""physics.records makes what model_construct makes, at less cost, with the collector paused."""
+
+import gc
 
 import pytest
 
-from physics import records
+from physics import BudgetExceeded, parse_scene, records, simulate
+from physics.engine import MAX_WORK, Simulation
+from physics.examples import BREAKS
 from physics.trajectory import BallFinal, Event, ModelsUsed, Segment, Shot
 
 
@@ -66,3 +70,29 @@ def test_shot():
     for name in a.final:
         same_model(a.final[name], b.final[name])
     assert a.to_msgpack() == b.to_msgpack()
+
+
+def test_the_collector_is_paused_only_for_the_shot():
+    """A shot pauses the cyclic collector and gives it back as it found it, raise or not."""
+    scene = BREAKS["nineball_break"]()
+    seen = []
+
+    class Watched(Simulation):
+        def _transition(self, i):
+            seen.append(gc.isenabled())
+            super()._transition(i)
+
+    assert gc.isenabled()
+    Watched(parse_scene(scene)).run()
+    assert seen and not any(seen) and gc.isenabled()
+    budget = Simulation(parse_scene(scene))
+    budget.contacts_checked = MAX_WORK  # past the budget at the first event
+    with pytest.raises(BudgetExceeded):
+        budget.run()
+    assert gc.isenabled()
+    gc.disable()
+    try:
+        simulate(scene)
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
