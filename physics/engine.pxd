@@ -7,6 +7,9 @@ cimport physics.roots as roots
 
 
 cdef object _first_contact(tuple c, double gap, double contact, double horizon)
+cdef object _approach(list v, tuple contact)
+cdef object _coupling(tuple c, tuple e, list inv)
+cdef object _solve(list A, list u, list push)
 
 
 cdef class _Ball:
@@ -65,6 +68,14 @@ cdef class Simulation:
     @cython.locals(b=_Ball)
     cpdef _collide_cushion(self, Py_ssize_t i, tuple normal, str kind, object cushion,
                            object pocket)
+    cdef object _settle(self, tuple seeds, tuple first)
+    cdef tuple _cluster(self, tuple seeds, tuple first)
+    cdef _take(self, Py_ssize_t i, list pos, list v, list w)
+    cdef _touching(self, Py_ssize_t k, list members, list pos, list v, list w, list contacts)
+    cdef _add_fixed(self, Py_ssize_t k, nx, ny, vx, vy, list fixed, list contacts)
+    cdef tuple _project(self, list v, list w, list contacts)
+    cdef list _pressed_slides(self, list v, list w, list contacts)
+    cdef _spare(self, list v, list w, list contacts)
     cpdef _transition(self, Py_ssize_t i)
     cdef _spin_stop(self, Py_ssize_t i)
     cdef _pocket(self, Py_ssize_t i, object name)

@@ -21,7 +21,7 @@ from physics import motion, records, roots
 from physics.ball_ball import BALL_BALL_MODELS
 from physics.cushion import CUSHION_MODELS
 from physics.motion import POCKETED, ROLLING, SLIDING, SPINNING, STATIONARY
-from physics.scene import Scene
+from physics.scene import CONTACT_TOLERANCE, Scene
 from physics.trajectory import ModelsUsed, Shot
 
 #: A contact within this gap (m) is a touching contact, decided at the present.
@@ -37,6 +37,18 @@ MIN_APPROACH = 1e-9
 #: Approach speeds below this (m/s) are a resting contact: resolved without rebound, which
 #: stops the endless ever-smaller bounces of a ball pressed against another ball or a cushion.
 REST_SPEED = 1e-4
+#: A ball within this gap (m) of another ball or a cushion touches it, for settling a cluster
+#: of resting contacts jointly (the scene format's own tolerance for touching).
+CLUSTER_GAP = CONTACT_TOLERANCE
+#: The largest cluster of resting contacts settled in one step: a ball wedged between a
+#: cushion and a neighbour is two balls and two contacts, a ball in a corner of a frozen rack
+#: a few more. Contacts past the bound are left to events of their own; the bound keeps the
+#: exact joint solution (a search over the 2^contacts sets of contacts that push) cheap.
+CLUSTER_BALLS = 4
+CLUSTER_CONTACTS = 5
+#: Tolerance (m/s) of the joint solution: an approach this slow is none, an impulse this
+#: small in the wrong direction is nil (float noise of an exact solution).
+LCP_TOL = 1e-12
 #: The budget of one shot, which ends a runaway shot (a scene built to burn a server core) with
 #: `BudgetExceeded` at a bounded cost: at most MAX_EVENTS events, and at most MAX_WORK units of
 #: work, since the work of an event grows with the balls on the table and a cushion impact can
@@ -316,8 +328,16 @@ class Simulation:
         n = (dx / d, dy / d)
         va, wa, vb, wb = (bi.vx, bi.vy), bi.w, (bj.vx, bj.vy), bj.w
         vn = (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1]
-        if vn < REST_SPEED:
-            va, wa, vb, wb = self._rest(va, wa, vb, wb, n)
+        if vn < REST_SPEED or self.p.e_b * vn < REST_SPEED:
+            changed = self._settle((i, j), (0, 1, n[0], n[1]))
+            if changed is not None:
+                self._emit("ball_ball", (bi.name, bj.name))
+                self._predict(changed)
+                return
+            if vn < REST_SPEED:
+                va, wa, vb, wb = self._rest(va, wa, vb, wb, n)
+            else:
+                va, wa, vb, wb = self.ball_ball(va, wa, vb, wb, n, self.p)
         else:
             va, wa, vb, wb = self.ball_ball(va, wa, vb, wb, n, self.p)
         self._set_motion(bi, va, wa)
@@ -331,13 +351,19 @@ class Simulation:
         b = self.balls[i]
         b.advance(self.now)
         v = (b.vx, b.vy)
+        vn_in = -(v[0] * normal[0] + v[1] * normal[1])
+        if vn_in < REST_SPEED:
+            changed = self._settle((i,), (0, -1, -normal[0], -normal[1]))
+            if changed is not None:
+                self._emit(kind, (b.name,), cushion, pocket)
+                self._predict(changed)
+                return
         if self.spin:
             v_new, w_new = self.cushion(v, b.w, normal, self.p, self.sin_theta, self.cushion_steps)
         else:
             vn = v[0] * normal[0] + v[1] * normal[1]
             k = (1.0 + self.p.e_c) * vn
             v_new, w_new = (v[0] - k * normal[0], v[1] - k * normal[1]), b.w
-        vn_in = -(v[0] * normal[0] + v[1] * normal[1])
         if vn_in < REST_SPEED:
             # Resting against the cushion: no rebound, and a slide that presses the ball into
             # the cushion is finished at once (as between two balls, see _rest).
@@ -357,6 +383,204 @@ class Simulation:
         self._set_motion(b, v_new, w_new)
         self._emit(kind, (b.name,), cushion, pocket)
         self._predict((i,))
+
+    def _settle(self, seeds, first):
+        """Settle a cluster of resting contacts in one step; None where there is no cluster.
+
+        A ball pressed against a cushion and a neighbour at once (or into a few frozen
+        neighbours), resolved one contact at a time, pushes itself into the other contact at
+        each step: a storm of ever-closer events. Here the contact of the event (`first`,
+        between seeds) and every resting contact the cluster around it touches are resolved
+        together: one perfectly inelastic impulse per contact so that no contact approaches
+        (_project), a slide that friction presses into any contact finished at once and the
+        impulses found again (as _rest does for a pair), and a rolling ball that would catch
+        up with the neighbour it follows slowed to stay clear of it (_spare). Each step only
+        dissipates energy. Returns the balls whose motion was set again.
+        """
+        members, v, w, contacts = self._cluster(seeds, first)
+        if len(contacts) < 2:
+            return None
+        before = list(zip(v, w, strict=True))
+        v, w = self._project(v, w, contacts)
+        for _ in range(CLUSTER_BALLS + 1):  # each round leaves one more ball rolling
+            pressed = self._pressed_slides(v, w, contacts)
+            if not pressed:
+                break
+            for k in pressed:
+                v[k], w[k] = self._finish_slide(v[k], w[k])
+            v, w = self._project(v, w, contacts)
+        self._spare(v, w, contacts)
+        changed = []
+        for k, i in enumerate(members):
+            if k < len(seeds) or (v[k], w[k]) != before[k]:
+                b = self.balls[i]
+                b.advance(self.now)
+                self._set_motion(b, v[k], w[k])
+                changed.append(i)
+        return tuple(changed)
+
+    def _cluster(self, seeds, first):
+        """The balls and resting contacts around a resting contact, within the cluster bounds.
+
+        Returns the members (ball indices, the seeds first), their velocities and spins now,
+        and the contacts as (a, b, nx, ny): members a and b (b = -1 for a cushion or jaw),
+        n the unit normal from a into b. A contact is resting when its approach is slower
+        than REST_SPEED: a faster one is a real collision, an event of its own.
+        """
+        members = list(seeds)
+        pos, v, w = [], [], []
+        for i in members:
+            self._take(i, pos, v, w)
+        contacts = [first]
+        k = 0
+        while k < len(members) and len(contacts) < CLUSTER_CONTACTS:
+            self._touching(k, members, pos, v, w, contacts)
+            k += 1
+        return members, v, w, contacts
+
+    def _take(self, i, pos, v, w):
+        """Add ball i's position, velocity and spin now to the lists."""
+        b = self.balls[i]
+        x, y, vx, vy = b.at(self.now)
+        dt = self.now - b.t0
+        pos.append((x, y))
+        v.append((vx, vy))
+        w.append((b.w[0] + b.dw[0] * dt, b.w[1] + b.dw[1] * dt, b.w[2] + b.dw[2] * dt))
+
+    def _touching(self, k, members, pos, v, w, contacts):
+        """Add member k's resting contacts not yet in `contacts` (and their balls to members)."""
+        R = self.p.R
+        x, y = pos[k]
+        vx, vy = v[k]
+        fixed = [(nx, ny) for a, b, nx, ny in contacts if a == k and b < 0]
+        for _, px, py, nx, ny, tx, ty in self.rails:
+            gap = (x - px) * nx + (y - py) * ny - R
+            s = ((x - px) * tx + (y - py) * ty) / (tx * tx + ty * ty)
+            if abs(gap) <= CLUSTER_GAP and 0.0 <= s <= 1.0:
+                self._add_fixed(k, -nx, -ny, vx, vy, fixed, contacts)
+        for kind, _, cx, cy, radius in self.circles:
+            d = math.hypot(x - cx, y - cy)
+            if kind == "jaw" and abs(d - radius) <= CLUSTER_GAP:
+                self._add_fixed(k, (cx - x) / d, (cy - y) / d, vx, vy, fixed, contacts)
+        for i, other in enumerate(self.balls):
+            if (
+                other.state == POCKETED
+                or i in members[: k + 1]
+                or len(contacts) >= CLUSTER_CONTACTS
+            ):
+                continue
+            self.contacts_checked += 1
+            xo, yo, vxo, vyo = other.at(self.now)
+            d = math.hypot(xo - x, yo - y)
+            if d - 2.0 * R > CLUSTER_GAP:
+                continue
+            n = ((xo - x) / d, (yo - y) / d)
+            if (vx - vxo) * n[0] + (vy - vyo) * n[1] >= REST_SPEED:
+                continue
+            if i in members:
+                m = members.index(i)
+                if any({a, b} == {k, m} for a, b, _, _ in contacts):
+                    continue
+            elif len(members) < CLUSTER_BALLS:
+                m = len(members)
+                members.append(i)
+                self._take(i, pos, v, w)
+            else:
+                continue
+            contacts.append((k, m, n[0], n[1]))
+
+    def _add_fixed(self, k, nx, ny, vx, vy, fixed, contacts):
+        """Add a resting contact of member k with a cushion or jaw (normal n into it), unless
+        it is one already there (the normals in `fixed`, which n joins) or there is no room."""
+        new = all(nx * fx + ny * fy < 1.0 - 1e-9 for fx, fy in fixed)
+        if new and len(contacts) < CLUSTER_CONTACTS and vx * nx + vy * ny < REST_SPEED:
+            contacts.append((k, -1, nx, ny))
+        fixed.append((nx, ny))
+
+    def _project(self, v, w, contacts):
+        """The velocities after one perfectly inelastic impulse per contact, found jointly.
+
+        The impulses lam >= 0 (per unit mass) leave no contact approaching, and push only
+        where a contact would otherwise approach: the linear complementarity problem of
+        inelastic contact, solved exactly by trying each set of pushing contacts in turn (a
+        cluster has at most CLUSTER_CONTACTS). The result is the velocities nearest the
+        present ones (in the energy's metric) that no contact approaches, so the energy never
+        grows. A rolling ball weighs 7/5 m and stays rolling, as in _merge.
+        """
+        p = self.p
+        inv = [
+            5.0 / 7.0 if motion.classify(v[k], w[k], p) == ROLLING else 1.0 for k in range(len(v))
+        ]
+        u = [_approach(v, c) for c in contacts]
+        m = len(contacts)
+        A = [[_coupling(c, e, inv) for e in contacts] for c in contacts]
+        lam = None
+        for mask in range(1 << m):
+            lam = _solve(A, u, [k for k in range(m) if mask >> k & 1])
+            if lam is not None:
+                break
+        if lam is None:  # no set fits (a degenerate cluster): stop every member, at a loss
+            return [(0.0, 0.0)] * len(v), [(0.0, 0.0, s[2]) for s in w]
+        v = list(v)
+        w = list(w)
+        pushed = []
+        for (a, b, nx, ny), impulse in zip(contacts, lam, strict=True):
+            if impulse:
+                v[a] = (v[a][0] - impulse * inv[a] * nx, v[a][1] - impulse * inv[a] * ny)
+                pushed.append(a)
+                if b >= 0:
+                    v[b] = (v[b][0] + impulse * inv[b] * nx, v[b][1] + impulse * inv[b] * ny)
+                    pushed.append(b)
+        for k in pushed:
+            if inv[k] != 1.0:
+                w[k] = motion.rolling_spin(v[k], w[k][2], p.R)
+        return v, w
+
+    def _pressed_slides(self, v, w, contacts):
+        """The members whose sliding friction presses them into a contact they rest on."""
+        pressed = []
+        for a, b, nx, ny in contacts:
+            if _approach(v, (a, b, nx, ny)) <= -REST_SPEED:
+                continue  # parting: not held
+            for k, sign in ((a, 1.0), (b, -1.0)):
+                if k >= 0 and k not in pressed:
+                    (ax, ay), state = self._accel(v[k], w[k])
+                    if state == SLIDING and sign * (ax * nx + ay * ny) > 0.0:
+                        pressed.append(k)
+        return sorted(pressed)
+
+    def _spare(self, v, w, contacts):
+        """Slow each rolling ball that would catch up with the neighbour it follows.
+
+        Two rolling balls touching, neither approaching, both decelerate at u_r g along their
+        own velocities: the one behind (whose velocity has the larger part along the contact
+        normal) would press into the one ahead again, and each new contact would come
+        REST_DEPTH deeper. It gives up speed (keeping its direction, so it stays clear of a
+        cushion it rolls along) until it stays clear of the other while both roll and after
+        either stops: with c and c_l the cosines of the two velocities with the normal (the
+        follower's towards, the leader's away) and V_l the leader's speed, its speed at most
+        V_l sqrt(c_l / c) and 2 c_l V_l / (c + c_l). A leader at rest stops it.
+        """
+        p = self.p
+        for a, b, nx, ny in contacts:
+            if b < 0 or _approach(v, (a, b, nx, ny)) <= -REST_SPEED:
+                continue
+            sa, sb = math.hypot(v[a][0], v[a][1]), math.hypot(v[b][0], v[b][1])
+            ca = (v[a][0] * nx + v[a][1] * ny) / sa if sa > 0.0 else 0.0
+            cb = -(v[b][0] * nx + v[b][1] * ny) / sb if sb > 0.0 else 0.0
+            f, c, lead, speed, c_l = (
+                (a, ca, b, sb, -cb) if sa * ca >= sb * cb else (b, cb, a, sa, -ca)
+            )
+            state_l = motion.classify(v[lead], w[lead], p)
+            if c <= 0.0 or state_l == SLIDING or motion.classify(v[f], w[f], p) != ROLLING:
+                continue
+            top = 0.0
+            if state_l == ROLLING and c_l > 0.0:
+                top = min(speed * math.sqrt(c_l / c), 2.0 * c_l * speed / (c + c_l))
+            now = math.hypot(v[f][0], v[f][1])
+            if top < now:
+                v[f] = (v[f][0] * (top / now), v[f][1] * (top / now))
+                w[f] = motion.rolling_spin(v[f], w[f][2], p.R)
 
     def _rest(self, va, wa, vb, wb, n):
         """Two balls meeting at a crawl, which friction would keep pressing together.
@@ -572,3 +796,61 @@ def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: fl
             return 0.0  # touching and approaching: now
         return roots.first_return(c, horizon, 2.0 * contact * REST_DEPTH)
     return roots.first_entry(c, horizon)
+
+
+def _approach(v: list, contact: tuple) -> float:
+    """How fast the two sides of a contact (a, b, nx, ny) close in (b = -1: a cushion)."""
+    a, b, nx, ny = contact
+    vx, vy = v[a]
+    if b >= 0:
+        vx, vy = vx - v[b][0], vy - v[b][1]
+    return vx * nx + vy * ny
+
+
+def _coupling(c: tuple, e: tuple, inv: list) -> float:
+    """How much a unit impulse at contact e slows the approach at contact c."""
+    total = 0.0
+    for k, sign_c in ((c[0], 1.0), (c[1], -1.0)):
+        if k < 0:
+            continue
+        for m, sign_e in ((e[0], 1.0), (e[1], -1.0)):
+            if m == k:
+                total += sign_c * sign_e * inv[k]
+    return total * (c[2] * e[2] + c[3] * e[3])
+
+
+def _solve(A: list, u: list, push: list) -> list | None:
+    """The impulses when exactly the contacts in `push` push, or None if they do not fit.
+
+    They fit when the pushing contacts end with no approach and impulses >= 0, and the others
+    are not approaching: a solution of the inelastic contact problem. Gaussian elimination
+    with partial pivoting on the pushing contacts' rows; a singular set does not fit.
+    """
+    n = len(push)
+    rows = [[A[r][c] for c in push] + [u[r]] for r in push]
+    for col in range(n):
+        best = col
+        for r in range(col + 1, n):
+            if abs(rows[r][col]) > abs(rows[best][col]):
+                best = r
+        if abs(rows[best][col]) <= 1e-12:
+            return None
+        rows[col], rows[best] = rows[best], rows[col]
+        for r in range(col + 1, n):
+            f = rows[r][col] / rows[col][col]
+            for c in range(col, n + 1):
+                rows[r][c] -= f * rows[col][c]
+    x = [0.0] * n
+    for r in range(n - 1, -1, -1):
+        x[r] = (rows[r][n] - sum(rows[r][c] * x[c] for c in range(r + 1, n))) / rows[r][r]
+    lam = [0.0] * len(u)
+    for k, r in enumerate(push):
+        if x[k] < -LCP_TOL:
+            return None
+        lam[r] = max(x[k], 0.0)
+    for r in range(len(u)):
+        if r not in push:
+            after = u[r] - sum(A[r][c] * lam[c] for c in range(len(u)))
+            if after > LCP_TOL:
+                return None
+    return lam

@@ -304,3 +304,46 @@ def test_a_crawl_below_the_rest_speed_leaves_the_ball_where_it_is(spin):
     assert shot.final["a"].pos == (1.0, 1.0)
     assert all(seg.v == (0.0, 0.0) for seg in shot.trajectories["a"])
     assert_sane(shot)
+
+
+#: Issue 9's wedge: a ball flush with the left rail of the nine-ball table, touching another.
+WEDGED = {"b0": [R, 1.0], "b1": [0.08344873188206842, 0.9840314042779313]}
+
+
+@pytest.mark.parametrize("w", [[1.0, 0.0, 0.0], [1.0, 0.0, -2.0]])
+@pytest.mark.parametrize("e_c", [POOL.e_c, 0.0])
+def test_a_ball_wedged_by_its_spin_settles_at_once(w, e_c):
+    """A stationary ball whose spin drives it into a cushion and a neighbour at once. Resolved
+    one contact at a time it bounced between them with ever-tinier steps: 498 events, with
+    side spin past the budget (2,000 events), with a dead cushion 2.6e-9 m past the cushion
+    line. Settled jointly, it rolls off along the rail pushing the neighbour away."""
+    shot = run(WEDGED, initial={"b0": {"v": [0.0, 0.0], "w": w}}, params={"e_c": e_c})
+    assert len(shot.events) < 10
+    assert_sane(shot)
+    nearest = min(shot.position("b0", e.t)[0] for e in shot.events)
+    assert min(nearest, shot.final["b0"].pos[0]) >= R - 2e-10  # one REST_DEPTH at most
+    assert shot.final["b0"].pos[1] < 1.0 - 1e-6  # it moved down the rail, as the spin drives it
+    assert math.dist(shot.final["b1"].pos, WEDGED["b1"]) > 1e-6  # and pushed the neighbour
+
+
+@pytest.mark.parametrize("angle", [0.0, 0.3, 0.7, 1.2])
+@pytest.mark.parametrize("models", [{}, {"spin": False, "ball_ball": "frictionless"}])
+def test_a_dead_ball_driven_into_a_wedge_settles_at_once(angle, models):
+    """e_b = 0: a ball rolled into a neighbour that touches a ball flush with the rail. Dead
+    collisions one pair at a time passed the push down the chain and back with ever-tinier
+    steps (20-362 events); a collision too dead to part the pair is settled with the cluster."""
+    nx, ny = math.cos(angle), math.sin(angle)
+    wedged = [R + 2 * R * nx, 1.0 + 2 * R * ny]
+    start = [wedged[0] + 0.3, wedged[1] + 0.05]
+    dx, dy = wedged[0] - start[0], wedged[1] - start[1]
+    vx, vy = 2.0 * dx / math.hypot(dx, dy), 2.0 * dy / math.hypot(dx, dy)
+    shot = run(
+        {"b0": [R, 1.0], "b1": wedged, "c": start},
+        initial={"c": {"v": [vx, vy], "w": [-vy / R, vx / R, 0.0]}},
+        models=models,
+        params={"e_b": 0.0},
+    )
+    assert len(shot.events) < 20
+    assert_sane(shot)
+    on_table = [pos for pos in (shot.position("b0", e.t) for e in shot.events) if pos]
+    assert min(x for x, _ in on_table) >= R - 2e-10  # pushed along the rail, perhaps to a pocket
