@@ -9,8 +9,11 @@ parsed scene to the Shot; CPU time of the worker, which other work on the machin
 than wall time), events per second, and the ratio of the two paths. Then the
 first shot in a fresh interpreter (import, then one shot: any warm-up a server pays on its
 first request), the batch throughput of simulate_many over every core for the bot's kind of
-shot (the single shot at random headings and speeds), and, with --pooltool-python (an
-interpreter with pooltool-billiards installed), pooltool's own nine-ball break in the same run.
+shot (the single shot at random headings and speeds; the Shots it returns are built when first
+read, which this does not do), and, with --pooltool-python (an interpreter with
+pooltool-billiards installed), pooltool's own nine-ball break in the same run. A machine shared
+with other sessions shows little of what a second worker adds: Linux's scheduler (autogroup)
+gives each session an equal share of the CPU however many processes it runs.
 Last, on the compiled path: what the cheaper model choices save and what the culling skips.
 
 pooltool-billiards 0.6.0 pins a development build of panda3d (its 3D front end) that PyPI does

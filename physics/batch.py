@@ -12,11 +12,14 @@ from __future__ import annotations
 import atexit
 import multiprocessing
 import os
+import pickle
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
-from typing import Any
+from typing import Any, overload
 
-from physics.scene import Scene
+from physics import records
+from physics.engine import Simulation
+from physics.scene import Scene, parse_scene
 from physics.trajectory import Shot
 
 _pools: dict[int, ProcessPoolExecutor] = {}
@@ -36,22 +39,69 @@ def _shutdown() -> None:
     _pools.clear()
 
 
-def simulate_many(
-    scenes: Sequence[Scene | dict[str, Any]], workers: int | None = None
-) -> list[Shot]:
+def simulate_many(scenes: Sequence[Scene | dict[str, Any]], workers: int | None = None) -> Shots:
     """Simulate every scene, in order, on `workers` processes (None: one per core).
 
-    The results are those of `simulate` one by one, in the order of `scenes`; the first scene
-    that fails (SceneError, BudgetExceeded) raises, as it would alone. With one worker, or one
-    scene, the shots run in this process.
+    The results are those of `simulate` one by one, in the order of `scenes` (as `Shots`, a
+    sequence); the first scene that fails (SceneError, BudgetExceeded) raises, as it would
+    alone. With one worker, or one scene, the shots run in this process.
     """
-    from physics import simulate  # the package imports this module
-
     if workers is None:
         workers = os.cpu_count() or 1
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
     if workers == 1 or len(scenes) <= 1:
-        return [simulate(scene) for scene in scenes]
-    chunk = max(1, len(scenes) // (4 * workers))
-    return list(_pool(workers).map(simulate, scenes, chunksize=chunk))
+        return Shots([_records(scenes)], max(1, len(scenes)), len(scenes))
+    size = max(1, len(scenes) // (4 * workers))
+    chunks = [scenes[k : k + size] for k in range(0, len(scenes), size)]
+    return Shots(list(_pool(workers).map(_simulate_chunk, chunks)), size, len(scenes))
+
+
+class Shots(Sequence[Shot]):
+    """A batch's shots, in order, each built from its records when first read.
+
+    Building a Shot's models costs the process that reads it a third of what simulating it
+    cost; done for every shot as it arrived from the workers, that work in the calling process
+    would hold the whole batch to little more than one core. Once read, a shot is kept.
+    """
+
+    def __init__(self, parts: list[bytes | list[records.ShotRecord]], size: int, n: int) -> None:
+        # Lists of `size` shot records (the last may be shorter), pickled when from a worker.
+        self._parts = parts
+        self._size = size
+        self._shots: list[Shot | None] = [None] * n
+
+    def __len__(self) -> int:
+        return len(self._shots)
+
+    @overload
+    def __getitem__(self, k: int) -> Shot: ...
+    @overload
+    def __getitem__(self, k: slice) -> list[Shot]: ...
+
+    def __getitem__(self, k: int | slice) -> Shot | list[Shot]:
+        if isinstance(k, slice):
+            return [self[i] for i in range(*k.indices(len(self)))]
+        shot = self._shots[k]  # raises IndexError as a list does
+        if shot is None:
+            k %= len(self._shots)
+            part, at = divmod(k, self._size)
+            with records.PausedCollector():
+                if isinstance(self._parts[part], bytes):
+                    self._parts[part] = pickle.loads(self._parts[part])
+                shot = self._shots[k] = records.shot(*self._parts[part][at])
+        return shot
+
+
+def _records(scenes: Sequence[Scene | dict[str, Any]]) -> list[records.ShotRecord]:
+    """The shots of `scenes` as records, no models built (simulate's checks, in order)."""
+    with records.PausedCollector():
+        return [
+            Simulation(s if isinstance(s, Scene) else parse_scene(s)).run_records() for s in scenes
+        ]
+
+
+def _simulate_chunk(scenes: Sequence[Scene | dict[str, Any]]) -> bytes:
+    """A worker's part of a batch: its shots' records, pickled (the collector paused)."""
+    with records.PausedCollector():
+        return pickle.dumps(_records(scenes), pickle.HIGHEST_PROTOCOL)

@@ -10,8 +10,19 @@ ctypedef (double, double, double, double, double, double) State
 
 
 cdef class _Impact:
-    cdef public double s, c, eps, eps2, snap2, grip_i, grip_c, mu_w, mu_s
-    cdef public object forces
+    cdef public double s, c, eps, eps2, snap2, grip_i, grip_c, mu_w, mu_s, det_both
+
+    @cython.locals(s=cython.double, c=cython.double, eps=cython.double, mu_w=cython.double,
+                   mu_s=cython.double, slip_i=cython.double, slip_c=cython.double,
+                   fix=cython.double, fiy=cython.double, fcx=cython.double, fcy=cython.double,
+                   ux=cython.double, uy=cython.double, k=cython.double, n_c=cython.double,
+                   ax=cython.double, ay=cython.double, drive=cython.double)
+    cdef (double, double, double, double) forces(self, double x_i, double y_i, double x_c,
+                                                 double y_c)
+    @cython.locals(s=cython.double, c=cython.double, mu_s=cython.double, n_c=cython.double,
+                   ax=cython.double, ay=cython.double, drive=cython.double)
+    cdef (double, double) _cloth(self, double fix, double fiy, double x_c, double y_c,
+                                 double slip_c)
 
     @cython.locals(s=cython.double, c=cython.double, eps=cython.double, mu_w=cython.double,
                    mu_s=cython.double, x_i=cython.double, y_i=cython.double,
@@ -55,6 +66,16 @@ cpdef tuple mathavan(object v, object w, object normal, object p, double sin_the
                      object work=*)
 @cython.locals(u2=cython.double, u3=cython.double)
 cpdef double _hermite(double f0, double f1, double m0, double m1, double u) except? -1.0
+@cython.locals(a=cython.double, b=cython.double, disc=cython.double, q=cython.double,
+               best=cython.double, peak=cython.double, u=cython.double, value=cython.double,
+               candidates=list)
+cpdef double _hermite_peak(double f0, double f1, double m0, double m1) except? -1.0
+@cython.locals(nx=cython.double, ny=cython.double)
+cpdef tuple _to_cushion(object v, object w, object normal, double R)
+@cython.locals(nx=cython.double, ny=cython.double)
+cpdef tuple _to_table(double vx, double vy, double Wx, double Wy, double Wz, object normal,
+                      double R)
+cpdef bint _leaving(object v, object normal) except -1
 @cython.locals(tol=cython.double, g=cython.double, slope=cython.double, newton=cython.double,
                u2=cython.double)
 cpdef double _hermite_root(double f0, double f1, double m0, double m1, double lo) except? -1.0

@@ -140,41 +140,56 @@ def han(
     return _to_table(vx, vy, Wx, Wy, Wz, normal, R)
 
 
-def _force_law(s: float, c: float, mu_w: float, mu_s: float, eps: float) -> Callable:
-    """The friction forces (f_Ix, f_Iy, f_Cx, f_Cy) per unit normal impulse, given the slips.
+class _Impact:
+    """The equations of one impact (see `mathavan`): its angle, friction and slip scales."""
 
-    A sliding contact (slip above eps) pulls against its slip at its Coulomb limit. A contact
-    whose slip is zero sticks when the force that holds the slip at zero fits in its cone (the
-    force is solved for exactly, so a stuck slip stays at zero); otherwise its slip grows along
-    its drive (its slip rate without its own friction) and the friction opposes that.
-    """
-    # Both contacts stuck: f_Ix = f_Cx = 0 and a 2x2 system for f_Iy, f_Cy, of determinant:
-    det_both = 3.5 * (2.5 + s * s) - (2.5 - s) ** 2
+    __slots__ = (
+        "c",
+        "det_both",
+        "eps",
+        "eps2",
+        "grip_c",
+        "grip_i",
+        "mu_s",
+        "mu_w",
+        "s",
+        "snap2",
+    )
 
-    def cloth(fix: float, fiy: float, x_c: float, y_c: float, slip_c: float):
-        n_c = max(0.0, s - c * fiy)
-        if slip_c > eps:
-            return -mu_s * n_c * x_c / slip_c, -mu_s * n_c * y_c / slip_c
-        ax = (1.0 - 2.5 * s) * fix
-        ay = -c + (2.5 - s) * fiy
-        drive = math.hypot(ax, ay)
-        if drive <= 3.5 * mu_s * n_c:
-            return -ax / 3.5, -ay / 3.5
-        return -mu_s * n_c * ax / drive, -mu_s * n_c * ay / drive
+    def __init__(self, s: float, c: float, p: Params, scale: float) -> None:
+        self.s, self.c = s, c
+        self.eps = _ZERO_SLIP * scale
+        snap = _SNAP_SLIP * scale
+        self.eps2, self.snap2 = self.eps * self.eps, snap * snap
+        # How fast each contact's friction can change its slip (the cloth's normal force is ~ s).
+        self.grip_i, self.grip_c = 2.5 * p.f_c, 3.5 * p.u_s * s
+        self.mu_w, self.mu_s = p.f_c, p.u_s
+        # Both contacts stuck: f_Ix = f_Cx = 0 and a 2x2 system for f_Iy, f_Cy, of determinant:
+        self.det_both = 3.5 * (2.5 + s * s) - (2.5 - s) ** 2
 
-    def forces(x_i: float, y_i: float, x_c: float, y_c: float):
+    def forces(self, x_i: float, y_i: float, x_c: float, y_c: float) -> tuple[float, ...]:
+        """The friction forces (f_Ix, f_Iy, f_Cx, f_Cy) per unit normal impulse, given the slips.
+
+        A sliding contact (slip above eps) pulls against its slip at its Coulomb limit. A
+        contact whose slip is zero sticks when the force that holds the slip at zero fits in its
+        cone (the force is solved for exactly, so a stuck slip stays at zero); otherwise its slip
+        grows along its drive (its slip rate without its own friction) and the friction opposes
+        that.
+        """
+        s, c, eps, mu_w, mu_s = self.s, self.c, self.eps, self.mu_w, self.mu_s
         slip_i = math.hypot(x_i, y_i)
         slip_c = math.hypot(x_c, y_c)
         if slip_i > eps:
             fix = -mu_w * x_i / slip_i
             fiy = -mu_w * y_i / slip_i
-            return (fix, fiy, *cloth(fix, fiy, x_c, y_c, slip_c))
+            fcx, fcy = self._cloth(fix, fiy, x_c, y_c, slip_c)
+            return fix, fiy, fcx, fcy
         if slip_c > eps:
             ux, uy = x_c / slip_c, y_c / slip_c
         else:
             # Both contacts at zero slip: both stuck if both forces fit their cones.
-            fiy = -c * (3.5 * s + 2.5 - s) / det_both
-            fcy = c * (2.5 + s * s + (2.5 - s) * s) / det_both
+            fiy = -c * (3.5 * s + 2.5 - s) / self.det_both
+            fcy = c * (2.5 + s * s + (2.5 - s) * s) / self.det_both
             if abs(fiy) <= mu_w and abs(fcy) <= mu_s * (s - c * fiy):
                 return 0.0, fiy, 0.0, fcy
             ux, uy = 0.0, -1.0  # the cloth slips the way the normal impulse drives it
@@ -194,25 +209,23 @@ def _force_law(s: float, c: float, mu_w: float, mu_s: float, eps: float) -> Call
         drive = math.hypot(ax, ay) or 1.0
         fix = -mu_w * ax / drive
         fiy = -mu_w * ay / drive
-        return (fix, fiy, *cloth(fix, fiy, x_c, y_c, slip_c))
+        fcx, fcy = self._cloth(fix, fiy, x_c, y_c, slip_c)
+        return fix, fiy, fcx, fcy
 
-    return forces
-
-
-class _Impact:
-    """The equations of one impact (see `mathavan`): its angle, friction and slip scales."""
-
-    __slots__ = ("c", "eps", "eps2", "forces", "grip_c", "grip_i", "mu_s", "mu_w", "s", "snap2")
-
-    def __init__(self, s: float, c: float, p: Params, scale: float) -> None:
-        self.s, self.c = s, c
-        self.eps = _ZERO_SLIP * scale
-        snap = _SNAP_SLIP * scale
-        self.forces = _force_law(s, c, p.f_c, p.u_s, self.eps)
-        self.eps2, self.snap2 = self.eps * self.eps, snap * snap
-        # How fast each contact's friction can change its slip (the cloth's normal force is ~ s).
-        self.grip_i, self.grip_c = 2.5 * p.f_c, 3.5 * p.u_s * s
-        self.mu_w, self.mu_s = p.f_c, p.u_s
+    def _cloth(
+        self, fix: float, fiy: float, x_c: float, y_c: float, slip_c: float
+    ) -> tuple[float, float]:
+        """The cloth's friction force, given the cushion's (see `forces`)."""
+        s, c, mu_s = self.s, self.c, self.mu_s
+        n_c = max(0.0, s - c * fiy)
+        if slip_c > self.eps:
+            return -mu_s * n_c * x_c / slip_c, -mu_s * n_c * y_c / slip_c
+        ax = (1.0 - 2.5 * s) * fix
+        ay = -c + (2.5 - s) * fiy
+        drive = math.hypot(ax, ay)
+        if drive <= 3.5 * mu_s * n_c:
+            return -ax / 3.5, -ay / 3.5
+        return -mu_s * n_c * ax / drive, -mu_s * n_c * ay / drive
 
     def rate(self, vx: float, vy: float, Wx: float, Wy: float, Wz: float) -> tuple[float, ...]:
         """d(v_x, v_y, W_x, W_y, W_z, E)/dp: the state's rate per unit normal impulse."""
@@ -411,9 +424,13 @@ def _hermite_peak(f0: float, f1: float, m0: float, m1: float) -> float:
             candidates.append(m0 / q)
         if a != 0.0:
             candidates.append(q / a)
-    return max(
-        (u for u in candidates if 0.0 <= u <= 1.0), key=lambda u: _hermite(f0, f1, m0, m1, u)
-    )
+    best, peak = 0.0, _hermite(f0, f1, m0, m1, 0.0)
+    for u in candidates[1:]:  # the first largest, as max() finds it
+        if 0.0 <= u <= 1.0:
+            value = _hermite(f0, f1, m0, m1, u)
+            if value > peak:
+                best, peak = u, value
+    return best
 
 
 def _hermite_root(f0: float, f1: float, m0: float, m1: float, lo: float) -> float:

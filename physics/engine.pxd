@@ -13,7 +13,8 @@ cdef object _solve(list A, list u, list push)
 
 
 cdef class _Ball:
-    cdef public object name, state, pocket
+    cdef public str name, state
+    cdef public object pocket
     cdef public double t0, x, y, vx, vy, ax, ay, t_own
     cdef public tuple w, dw
     cdef public Py_ssize_t version
@@ -28,18 +29,25 @@ cdef class _Ball:
 cdef class Simulation:
     cdef public object scene, p, models, ball_ball, cushion, geometry
     cdef public bint spin
-    cdef public double sin_theta, now
+    cdef public double sin_theta, now, diameter
     cdef public list balls, heap, events, cushion_steps, rails, circles
     cdef public dict index
     cdef public Py_ssize_t seq, contacts_checked, quartics_solved
 
     cpdef Py_ssize_t work(self)
+    cpdef tuple run_records(self)
+    cdef tuple _records(self)
+    @cython.locals(state=str)
     cdef _set_motion(self, _Ball b, tuple v, tuple w)
     cdef _record(self, _Ball b)
+    cdef _emit(self, str kind, tuple balls, object cushion=*, object pocket=*)
+    @cython.locals(bi=_Ball, bj=_Ball, vj=Py_ssize_t)
     cdef _push(self, double t, str kind, Py_ssize_t i, Py_ssize_t j=*, object data=*)
-    @cython.locals(k=Py_ssize_t, i=Py_ssize_t, j=Py_ssize_t, bi=_Ball, other=_Ball)
+    @cython.locals(k=Py_ssize_t, i=Py_ssize_t, j=Py_ssize_t, bi=_Ball, other=_Ball,
+                   earlier=tuple)
     cdef _predict(self, tuple changed)
-    @cython.locals(b=_Ball, now=cython.double)
+    @cython.locals(b=_Ball, now=cython.double, t_spin=cython.double, first=tuple,
+                   contact=tuple)
     cdef _predict_own(self, Py_ssize_t i)
     @cython.locals(R=cython.double, now=cython.double, x=cython.double, y=cython.double,
                    vx=cython.double, vy=cython.double, ax=cython.double, ay=cython.double,
@@ -57,6 +65,9 @@ cdef class Simulation:
     @cython.locals(bi=_Ball, bj=_Ball, dx=cython.double, dy=cython.double, d=cython.double,
                    vn=cython.double)
     cpdef _collide_balls(self, Py_ssize_t i, Py_ssize_t j)
+    @cython.locals(b=_Ball)
+    cpdef _collide_cushion(self, Py_ssize_t i, tuple normal, str kind, object cushion,
+                           object pocket)
     cdef object _settle(self, tuple seeds, tuple first)
     cdef tuple _cluster(self, tuple seeds, tuple first)
     cdef _take(self, Py_ssize_t i, list pos, list v, list w)
@@ -68,3 +79,7 @@ cdef class Simulation:
     cpdef _transition(self, Py_ssize_t i)
     cdef _spin_stop(self, Py_ssize_t i)
     cdef _pocket(self, Py_ssize_t i, object name)
+    @cython.locals(t=cython.double, kind=str, i=Py_ssize_t, j=Py_ssize_t, vi=Py_ssize_t,
+                   vj=Py_ssize_t, count=Py_ssize_t, b=_Ball, dx=cython.double,
+                   dy=cython.double, d=cython.double, heap=list, balls=list)
+    cdef _loop(self)

@@ -17,12 +17,12 @@ import heapq
 import math
 from collections.abc import Callable
 
-from physics import motion, roots
+from physics import motion, records, roots
 from physics.ball_ball import BALL_BALL_MODELS
 from physics.cushion import CUSHION_MODELS
 from physics.motion import POCKETED, ROLLING, SLIDING, SPINNING, STATIONARY
 from physics.scene import CONTACT_TOLERANCE, Scene
-from physics.trajectory import BallFinal, Event, ModelsUsed, Segment, Shot
+from physics.trajectory import ModelsUsed, Shot
 
 #: A contact within this gap (m) is a touching contact, decided at the present.
 TOUCH_GAP = 1e-11
@@ -61,8 +61,6 @@ LCP_TOL = 1e-12
 MAX_EVENTS = 2_000
 MAX_WORK = 40_000
 CUSHION_STEP_WORK = 2
-
-_MOVING = (SLIDING, ROLLING)
 
 
 class SimulationError(RuntimeError):
@@ -140,6 +138,7 @@ class Simulation:
         self.sin_theta = scene.sin_theta
         self.geometry = g = scene.geometry
         R = scene.params.R
+        self.diameter = 2.0 * R  # where two balls' centres meet
         #: The table as the contact search reads it, unpacked once per shot: each cushion
         #: segment with its start, normal and direction; each jaw (its circle grown by R, which
         #: is where a ball's centre meets it) and pocket with its centre and contact radius.
@@ -154,7 +153,8 @@ class Simulation:
         self.heap: list[tuple] = []
         self.seq = 0
         self.now = 0.0
-        self.events: list[Event] = []
+        #: The events so far, as records (physics.records builds the Shot's models at the end).
+        self.events: list[records.EventRecord] = []
         #: What the shot cost: possible contacts with balls and round things (jaws, pockets)
         #: looked at, and how many of those were not culled and needed a quartic solved.
         self.contacts_checked = 0
@@ -189,14 +189,24 @@ class Simulation:
     def _record(self, b: _Ball) -> None:
         b.segments.append((b.t0, b.state, (b.x, b.y), (b.vx, b.vy), (b.ax, b.ay), b.w, b.dw))
 
-    def _emit(self, kind: str, balls: tuple[str, ...], **extra: str) -> None:
-        self.events.append(Event.trusted(self.now, kind, balls, **extra))
+    def _emit(
+        self,
+        kind: str,
+        balls: tuple[str, ...],
+        cushion: str | None = None,
+        pocket: str | None = None,
+    ) -> None:
+        self.events.append((self.now, kind, balls, cushion, pocket))
 
     # -- prediction ----------------------------------------------------------------------
 
     def _push(self, t: float, kind: str, i: int, j: int = -1, data: object = None) -> None:
-        vj = self.balls[j].version if j >= 0 else 0
-        heapq.heappush(self.heap, (t, self.seq, kind, i, j, self.balls[i].version, vj, data))
+        bi = self.balls[i]
+        vj = 0
+        if j >= 0:
+            bj = self.balls[j]
+            vj = bj.version
+        heapq.heappush(self.heap, (t, self.seq, kind, i, j, bi.version, vj, data))
         self.seq += 1
 
     def _predict(self, changed: tuple[int, ...]) -> None:
@@ -210,8 +220,9 @@ class Simulation:
         balls = self.balls
         for k, i in enumerate(changed):
             bi = balls[i]
+            earlier = changed[:k]
             for j, other in enumerate(balls):
-                if j != i and other.state != POCKETED and j not in changed[:k]:
+                if j != i and other.state != POCKETED and j not in earlier:
                     self._predict_pair(i, j, bi, other)
 
     def _predict_own(self, i: int) -> None:
@@ -227,7 +238,9 @@ class Simulation:
         if b.state in (SLIDING, ROLLING, SPINNING):
             first = (now + motion.transition_time(b.state, (b.vx, b.vy), b.w, p), "motion", None)
             if b.state != SPINNING:
-                first = min(first, self._table_contact(b, first[0] - now), key=_time)
+                contact = self._table_contact(b, first[0] - now)
+                if contact[0] < first[0]:
+                    first = contact
                 t_spin = now + motion.spin_stop_time(b.w, p)
                 if t_spin < first[0]:
                     self._push(t_spin, "spin", i)
@@ -268,7 +281,7 @@ class Simulation:
         return best
 
     def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
-        if bi.state not in _MOVING and bj.state not in _MOVING:
+        if bi.state not in (SLIDING, ROLLING) and bj.state not in (SLIDING, ROLLING):
             return
         now = self.now
         xj, yj, vxj, vyj = bj.at(now)
@@ -279,7 +292,7 @@ class Simulation:
             vyj - bi.vy,
             bj.ax - bi.ax,
             bj.ay - bi.ay,
-            2.0 * self.p.R,
+            self.diameter,
             min(bi.t_own, bj.t_own) - now,
         )
         if t is not None:
@@ -332,7 +345,9 @@ class Simulation:
         self._emit("ball_ball", (bi.name, bj.name))
         self._predict((i, j))
 
-    def _collide_cushion(self, i: int, normal: tuple[float, float], kind: str, **names) -> None:
+    def _collide_cushion(
+        self, i: int, normal: tuple[float, float], kind: str, cushion: str, pocket: str | None
+    ) -> None:
         b = self.balls[i]
         b.advance(self.now)
         v = (b.vx, b.vy)
@@ -340,7 +355,7 @@ class Simulation:
         if vn_in < REST_SPEED:
             changed = self._settle((i,), (0, -1, -normal[0], -normal[1]))
             if changed is not None:
-                self._emit(kind, (b.name,), **names)
+                self._emit(kind, (b.name,), cushion, pocket)
                 self._predict(changed)
                 return
         if self.spin:
@@ -366,7 +381,7 @@ class Simulation:
                     v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
                     w_new = motion.rolling_spin(v_new, w_new[2], self.p.R)
         self._set_motion(b, v_new, w_new)
-        self._emit(kind, (b.name,), **names)
+        self._emit(kind, (b.name,), cushion, pocket)
         self._predict((i,))
 
     def _settle(self, seeds, first):
@@ -692,7 +707,7 @@ class Simulation:
         b.t_own = math.inf
         b.version += 1
         self._record(b)
-        self._emit("ball_pocket", (b.name,), pocket=name)
+        self._emit("ball_pocket", (b.name,), None, name)
 
     # -- the loop ------------------------------------------------------------------------
 
@@ -713,12 +728,25 @@ class Simulation:
         self._predict(tuple(moving))
 
     def run(self) -> Shot:
-        self._start()
+        """Simulate the shot to its end, every ball at rest or pocketed (the cyclic garbage
+        collector paused meanwhile, see records.PausedCollector)."""
+        with records.PausedCollector():
+            return records.shot(*self.run_records())
+
+    def run_records(self) -> records.ShotRecord:
+        """As `run`, the Shot as its records (what a batch's workers send back)."""
+        with records.PausedCollector():
+            self._start()
+            self._loop()
+            return self._records()
+
+    def _loop(self) -> None:
         heap, balls = self.heap, self.balls
         count = 0
         while heap:
             t, _, kind, i, j, vi, vj, data = heapq.heappop(heap)
-            if balls[i].version != vi or (j >= 0 and balls[j].version != vj):
+            b = balls[i]
+            if b.version != vi or (j >= 0 and balls[j].version != vj):
                 continue
             count += 1
             if count > MAX_EVENTS or self.work() > MAX_WORK:
@@ -734,42 +762,31 @@ class Simulation:
             elif kind == "spin":
                 self._spin_stop(i)
             elif kind == "cushion":
-                self._collide_cushion(i, data.normal, "ball_cushion", cushion=data.name)
+                self._collide_cushion(i, data.normal, "ball_cushion", data.name, None)
             elif kind == "jaw":
-                b = balls[i]
                 b.advance(t)
                 dx, dy = b.x - data.center[0], b.y - data.center[1]
                 d = math.hypot(dx, dy)
-                self._collide_cushion(
-                    i, (dx / d, dy / d), "ball_jaw", cushion=data.name, pocket=data.pocket
-                )
+                self._collide_cushion(i, (dx / d, dy / d), "ball_jaw", data.name, data.pocket)
             else:
                 self._pocket(i, data.name)
-        return self._result()
 
-    def _result(self) -> Shot:
+    def _records(self) -> records.ShotRecord:
         end = self.now
         final = {}
         trajectories = {}
         for b in self.balls:
             if b.state != POCKETED:
                 b.advance(end)
-            final[b.name] = BallFinal.model_construct(
-                pos=None if b.state == POCKETED else (b.x, b.y), state=b.state, pocket=b.pocket
-            )
-            trajectories[b.name] = [Segment.trusted(*s) for s in b.segments]
-        return Shot.model_construct(
-            events=self.events,
-            trajectories=trajectories,
-            final=final,
-            duration=end,
-            models=ModelsUsed(
-                ball_ball=self.models.ball_ball,
-                cushion=self.models.cushion,
-                spin=self.spin,
-                cushion_height=self.geometry.spec.cushion_height,
-            ),
+            final[b.name] = (None if b.state == POCKETED else (b.x, b.y), b.state, b.pocket)
+            trajectories[b.name] = b.segments
+        models = ModelsUsed(
+            ball_ball=self.models.ball_ball,
+            cushion=self.models.cushion,
+            spin=self.spin,
+            cushion_height=self.geometry.spec.cushion_height,
         )
+        return self.events, trajectories, final, end, models
 
 
 def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
@@ -837,7 +854,3 @@ def _solve(A: list, u: list, push: list) -> list | None:
             if after > LCP_TOL:
                 return None
     return lam
-
-
-def _time(prediction: tuple) -> float:
-    return prediction[0]

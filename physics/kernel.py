@@ -24,6 +24,7 @@ MODULES = (
     "physics.ball_ball",
     "physics.cushion",
     "physics.engine",
+    "physics.records",
 )
 
 #: IEEE arithmetic exactly as Python's floats do it: no fused multiply-add, no fast-math.

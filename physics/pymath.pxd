@@ -132,3 +132,30 @@ cdef inline double hypot(double x, double y) noexcept nogil:
     if big == 0.0:
         return big
     return _norm(a, b, big)
+
+
+cdef inline bint clears(double x, double y, double ax, double ay, double h,
+                        double clearance) noexcept nogil:
+    """physics/pymath.py's clears, to the same answer: hypot(x, y) - sag > clearance, sag being
+    0.125 hypot(ax, ay) h^2.
+
+    Away from the boundary the answer follows from d = sqrt(x^2 + y^2) and g = sqrt(ax^2 +
+    ay^2), each within 1e-15 of its hypot in relative terms when their squares neither
+    underflow nor overflow (as here: the guards), so that d - sag' is within 3e-15 (d + sag')
+    of the exact difference; a margin of 1e-12 (d + sag') around the clearance leaves only
+    the cases within it to the exact computation. NaNs fail the guards and go there too.
+    """
+    cdef double q = x * x + y * y
+    cdef double g2 = ax * ax + ay * ay
+    cdef double d, sag, margin
+    if 1e-150 < q < 1e150 and (1e-150 < g2 < 1e150 or (ax == 0.0 and ay == 0.0)) and (
+        -1e50 < h < 1e50
+    ):
+        d = libm.sqrt(q)
+        sag = 0.125 * libm.sqrt(g2) * h * h
+        margin = 1e-12 * (d + sag)
+        if d - sag > clearance + margin:
+            return True
+        if d - sag < clearance - margin:
+            return False
+    return hypot(x, y) - 0.125 * hypot(ax, ay) * h * h > clearance

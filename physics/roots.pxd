@@ -1,6 +1,7 @@
 # The C types of physics/roots.py for the compiled kernel (setup.py); the .py is the source.
 cimport cython
 cimport physics.pymath as math
+cimport physics.pymath as pymath
 
 cdef int _NEWTON_ITERS
 
@@ -15,15 +16,14 @@ cpdef list _quadratic_roots(double c0, double c1, double c2)
                _=cython.int)
 cpdef double _refine(tuple c, tuple dc, double lo, double hi) except? -1.0
 @cython.locals(p=cython.double)
-cpdef list critical_points(tuple c, double hi)
+cpdef list critical_points(tuple dc, double hi)
 @cython.locals(f_prev=cython.double, f_b=cython.double, a=cython.double, b=cython.double,
                k=Py_ssize_t)
 cpdef list all_roots(tuple c, double hi)
 @cython.locals(x=cython.double)
 cpdef double _refine_neg(tuple c, tuple dc, double lo, double hi) except? -1.0
 
-@cython.locals(cx=cython.double, cy=cython.double, chord2=cython.double, s=cython.double,
-               sag=cython.double)
+@cython.locals(cx=cython.double, cy=cython.double, chord2=cython.double, s=cython.double)
 cpdef bint path_misses(double px, double py, double vx, double vy, double ax, double ay,
                        double h, double clearance) except -1
 @cython.locals(r=cython.double)

@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import math
 
+from physics import pymath
+
 _NEWTON_ITERS = 60
 
 
@@ -74,9 +76,9 @@ def _refine(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -
     return min(t, hi)
 
 
-def critical_points(c: tuple[float, ...], hi: float) -> list[float]:
-    """Sorted roots of the derivative of `c` strictly inside (0, hi)."""
-    dc = _derivative(c)
+def critical_points(dc: tuple[float, ...], hi: float) -> list[float]:
+    """Sorted roots strictly inside (0, hi) of the derivative `dc` of a polynomial (where it
+    turns: the callers have the derivative already, for their Newton steps)."""
     while len(dc) > 1 and dc[-1] == 0.0:
         dc = dc[:-1]
     if len(dc) <= 1:
@@ -93,7 +95,7 @@ def critical_points(c: tuple[float, ...], hi: float) -> list[float]:
 def all_roots(c: tuple[float, ...], hi: float) -> list[float]:
     """Every root of the polynomial `c` in (0, hi), sorted (by recursion on the degree)."""
     dc = _derivative(c)
-    knots = [0.0, *critical_points(c, hi), hi]
+    knots = [0.0, *critical_points(dc, hi), hi]
     roots = []
     f_prev = _horner(c, 0.0)
     for k in range(len(knots) - 1):  # each piece between knots, in order
@@ -124,8 +126,7 @@ def path_misses(
     s = 0.0
     if chord2 > 0.0:
         s = min(1.0, max(0.0, -(px * cx + py * cy) / chord2))
-    sag = 0.125 * math.hypot(ax, ay) * h * h
-    return math.hypot(px + s * cx, py + s * cy) - sag > clearance
+    return pymath.clears(px + s * cx, py + s * cy, ax, ay, h, clearance)
 
 
 def first_entry_quadratic(c0: float, c1: float, c2: float, hi: float, skip: float = 0.0):
@@ -152,7 +153,7 @@ def first_entry(c: tuple[float, ...], hi: float, skip: float = 0.0) -> float | N
     if _horner(c, skip) <= 0.0:
         return skip
     dc = _derivative(c)
-    knots = [skip, *[p for p in critical_points(c, hi) if p > skip], hi]
+    knots = [skip, *[p for p in critical_points(dc, hi) if p > skip], hi]
     for k in range(len(knots) - 1):  # each piece between knots, in order
         a, b = knots[k], knots[k + 1]
         if _horner(c, b) <= 0.0:
@@ -169,7 +170,7 @@ def first_return(c: tuple[float, ...], hi: float, depth: float) -> float | None:
     """
     floor = min(c[0], 0.0) - depth
     dc = _derivative(c)
-    knots = [0.0, *critical_points(c, hi), hi]
+    knots = [0.0, *critical_points(dc, hi), hi]
     apart = False
     for k in range(len(knots) - 1):  # each piece between knots, in order
         a, b = knots[k], knots[k + 1]

@@ -13,7 +13,7 @@ serialises to JSON and to msgpack.
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Literal
 
 import msgpack
 from pydantic import BaseModel, ConfigDict
@@ -33,20 +33,6 @@ EventType = Literal[
 MotionState = Literal["stationary", "spinning", "sliding", "rolling", "pocketed"]
 
 
-def _trusted(cls: type[BaseModel], values: dict[str, Any], given: set[str]) -> Any:
-    """What `cls.model_construct(**given values)` makes, from `values` holding every field and
-    `given`, the names of those passed: the engine builds hundreds of these per shot, and
-    model_construct's general path (aliases, defaults, private attributes) costs several times
-    more. Only for the models here, which have none of those (tests/physics_kernel checks that
-    the two agree)."""
-    m = cls.__new__(cls)
-    object.__setattr__(m, "__dict__", values)
-    object.__setattr__(m, "__pydantic_fields_set__", given)
-    object.__setattr__(m, "__pydantic_extra__", None)
-    object.__setattr__(m, "__pydantic_private__", None)
-    return m
-
-
 class Event(BaseModel):
     """One thing that happened at time t.
 
@@ -63,13 +49,6 @@ class Event(BaseModel):
     cushion: str | None = None
     pocket: str | None = None
 
-    @classmethod
-    def trusted(cls, t: float, type: str, balls: tuple[str, ...], **names: str) -> Event:
-        """An event from the engine, unvalidated (see _trusted); names: cushion, pocket."""
-        values = {"t": t, "type": type, "balls": balls, "cushion": None, "pocket": None}
-        values.update(names)
-        return _trusted(cls, values, {"t", "type", "balls", *names})
-
 
 class Segment(BaseModel):
     """A stretch of one ball's motion in one state, from t to the next segment's t."""
@@ -83,15 +62,6 @@ class Segment(BaseModel):
     a: tuple[float, float]
     w: tuple[float, float, float]
     dw: tuple[float, float, float]
-
-    @classmethod
-    def trusted(cls, t, state, r, v, a, w, dw) -> Segment:
-        """A segment from the engine, unvalidated (see _trusted)."""
-        values = {"t": t, "state": state, "r": r, "v": v, "a": a, "w": w, "dw": dw}
-        return _trusted(cls, values, set(_SEGMENT_FIELDS))
-
-
-_SEGMENT_FIELDS = frozenset(Segment.model_fields)
 
 
 class BallFinal(BaseModel):
@@ -133,16 +103,18 @@ class Shot(BaseModel):
         return msgpack.packb(self.model_dump(mode="json", exclude_none=True))
 
     def __reduce__(self) -> tuple:
-        """Pickle as plain tuples (rebuilt by `_unpickle_shot`): a batch's shots come back
-        from the worker processes this way, and pydantic's own pickling of the hundreds of
-        small models in a shot costs more than simulating it."""
+        """Pickle as plain tuples (rebuilt by `physics.records.shot`): a batch's shots come
+        back from the worker processes this way, and pydantic's own pickling of the hundreds
+        of small models in a shot costs more than simulating it."""
+        from physics import records  # which imports this module
+
         events = [(e.t, e.type, e.balls, e.cushion, e.pocket) for e in self.events]
         trajectories = {
             name: [(s.t, s.state, s.r, s.v, s.a, s.w, s.dw) for s in segs]
             for name, segs in self.trajectories.items()
         }
         final = {name: (f.pos, f.state, f.pocket) for name, f in self.final.items()}
-        return _unpickle_shot, (events, trajectories, final, self.duration, self.models)
+        return records.shot, (events, trajectories, final, self.duration, self.models)
 
     @classmethod
     def from_msgpack(cls, data: bytes) -> Shot:
@@ -164,26 +136,3 @@ class Shot(BaseModel):
             seg.r[0] + seg.v[0] * tau + 0.5 * seg.a[0] * tau * tau,
             seg.r[1] + seg.v[1] * tau + 0.5 * seg.a[1] * tau * tau,
         )
-
-
-def _unpickle_shot(events, trajectories, final, duration, models) -> Shot:
-    """The Shot that Shot.__reduce__ took apart, built as the engine builds it."""
-    return Shot.model_construct(
-        events=[
-            Event.trusted(t, kind, balls, **_given(cushion=cushion, pocket=pocket))
-            for t, kind, balls, cushion, pocket in events
-        ],
-        trajectories={
-            name: [Segment.trusted(*s) for s in segs] for name, segs in trajectories.items()
-        },
-        final={
-            name: BallFinal.model_construct(pos=pos, state=state, pocket=pocket)
-            for name, (pos, state, pocket) in final.items()
-        },
-        duration=duration,
-        models=models,
-    )
-
-
-def _given(**names: str | None) -> dict[str, str]:
-    return {k: v for k, v in names.items() if v is not None}

@@ -20,6 +20,19 @@ def test_same_shots_in_the_same_order(workers):
     assert [s.to_msgpack() for s in many] == [simulate(s).to_msgpack() for s in scenes]
 
 
+def test_shots_read_in_any_order():
+    """A batch from the workers is built shot by shot as read: any index, slices, from the end."""
+    scenes = breaks(9)
+    alone = [simulate(s).to_msgpack() for s in scenes]
+    many = simulate_many(scenes, workers=2)
+    assert len(many) == 9 and len(simulate_many(scenes, workers=1)) == 9
+    assert many[-1].to_msgpack() == alone[-1] and many[4].to_msgpack() == alone[4]
+    assert [s.to_msgpack() for s in many[1:8:3]] == alone[1:8:3]
+    assert many[4] is many[4]  # built once
+    with pytest.raises(IndexError):
+        many[9]
+
+
 def test_a_bad_scene_raises_as_it_would_alone():
     scenes = [*breaks(3), {"balls": {}}]
     with pytest.raises(SceneError):
@@ -32,7 +45,7 @@ def test_workers_at_least_one():
 
 
 def test_empty_batch():
-    assert simulate_many([], workers=2) == []
+    assert list(simulate_many([], workers=2)) == []
 
 
 def test_a_shot_pickles_to_an_equal_shot():

@@ -1,4 +1,5 @@
-"""physics/pymath.pxd, the kernel's `math`, against Python's own, on many random arguments.
+"""physics/pymath.pxd, the kernel's `math`, against Python's own (and its `clears` against
+physics/pymath.py's), on many random arguments.
 
 Its functions are C inline functions, so a probe extension that runs them is compiled here,
 with the kernel's flags (Cython and a C compiler, which dev.sh installs).
@@ -14,6 +15,8 @@ from pathlib import Path
 
 import pytest
 
+from physics import pymath
+
 ROOT = Path(__file__).resolve().parents[2]
 PROBE = """
 cimport physics.pymath as m
@@ -24,6 +27,9 @@ def hypot(double[:] x, double[:] y, double[:] out):
 
 def sqrt(double x):
     return m.sqrt(x)
+
+def clears(double x, double y, double ax, double ay, double h, double clearance):
+    return m.clears(x, y, ax, ay, h, clearance)
 
 def exp(double x):
     return m.exp(x)
@@ -106,3 +112,34 @@ def test_exp_range_error(probe):
     with pytest.raises(OverflowError):
         probe.exp(1000.0)
     assert probe.exp(-1000.0) == 0.0
+
+
+def clears_arguments(n, rng):
+    """(x, y, ax, ay, h, clearance) as path_misses passes them, and far beyond; each with
+    clearances at the exact boundary, an ulp either side, and about the fast path's margin.
+    """
+    edges = [0.0, -0.0, 1e-300, 1e-160, 1e160, math.inf, -math.inf, math.nan]
+    for k in range(n):
+        if k % 10 == 0:
+            x, y, ax, ay, h = (rng.choice([*edges, rng.uniform(-1, 1)]) for _ in range(5))
+        else:
+            e = rng.uniform(-30.0, 3.0)
+            x, y = (rng.uniform(-1.0, 1.0) * 10.0 ** (e + rng.uniform(-3, 3)) for _ in range(2))
+            ax, ay = (rng.choice([0.0, rng.uniform(-20.0, 20.0)]) for _ in range(2))
+            h = rng.choice([0.0, rng.uniform(0.0, 10.0), 10.0 ** rng.uniform(-12, 2)])
+        with_sag = math.hypot(x, y) - 0.125 * math.hypot(ax, ay) * h * h
+        for c in (with_sag, 0.05 * rng.random(), -with_sag, 0.0):
+            if not math.isfinite(c):
+                yield x, y, ax, ay, h, c
+                continue
+            yield x, y, ax, ay, h, c
+            yield x, y, ax, ay, h, math.nextafter(c, math.inf)
+            yield x, y, ax, ay, h, math.nextafter(c, -math.inf)
+            for scale in (1e-13, 1e-12, 1e-11):  # inside the margin, at it, beyond it
+                yield x, y, ax, ay, h, c * (1.0 + scale * rng.uniform(-1.0, 1.0))
+
+
+def test_clears_gives_pythons_answer(probe):
+    rng = random.Random(14)
+    for args in clears_arguments(100_000, rng):
+        assert probe.clears(*args) == pymath.clears(*args), args

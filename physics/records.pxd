@@ -1,0 +1,11 @@
+# The C types of physics/records.py for the compiled kernel (setup.py); the .py is the source.
+cimport cython
+cimport physics.cobject as object
+
+cdef frozenset _EVENT_FIELDS, _SEGMENT_FIELDS
+
+cdef _trusted(cls, dict values, set given)
+cpdef event(t, str kind, tuple balls, cushion, pocket)
+cpdef segment(t, str state, r, v, a, w, dw)
+@cython.locals(segs=list, s=tuple, f=tuple, e=tuple)
+cpdef shot(list events, dict trajectories, dict final, duration, models)
