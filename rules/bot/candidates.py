@@ -9,6 +9,11 @@
   cushion, which is also the escape from a snooker.
 - Three-cushion: a fan of headings around each object ball, with running and check side, at
   two speeds; which of them score is for the simulation to say.
+- Push-outs, when the referee offers one (nine-ball, the shot after the break): soft rolls of
+  the cue ball all around the compass. The opponent then chooses who shoots from the table
+  left, so the search values a push-out as the worse of the two for the bot (rules.bot.value
+  reads the choice the referee offers); it wins only when no shot is better than a table
+  neither player wants.
 
 Every candidate carries the declarations the referee asks for (the called pocket on the 8, the
 nomination in snooker) and is checked with `rules.game.check` before it is kept, so the search
@@ -35,9 +40,11 @@ from rules.referee import Allowed, allowed, referee
 from rules.spots import Point, Table
 from rules.state import State
 
-#: Speed factors and draw/follow (tip offset b) each pot is tried with.
+#: Speed factors and tip offsets (a: side, b: draw/follow) each straight pot is tried with:
+#: draw, stun and follow, and running or check side, which throws the cue ball off the second
+#: cushion it meets another way (position the vertical spins cannot reach).
 POT_SPEEDS = (0.75, 1.0, 1.4)
-POT_SPINS = (-0.3, 0.0, 0.3)
+POT_SPINS = ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3), (-0.3, 0.0), (0.3, 0.0))
 #: Aim offsets of a contact (the cue ball's line passes this many ball diameters from the
 #: object ball's centre: 0 full, 0.5 half-ball, 0.85 thin) and its speeds (m/s).
 CONTACT_OFFSETS = (0.0, 0.5, -0.5, 0.85, -0.85)
@@ -58,6 +65,10 @@ FAN_WIDTH = 60.0
 FAN_SIDES = (-0.4, 0.0, 0.4)
 FAN_SPEEDS = (3.0, 4.5)
 FAN_FOLLOW = 0.1
+#: Push-outs: evenly spaced headings, and speeds (m/s) that roll the cue ball a short way
+#: (about 0.1, 0.3 and 0.65 m on the engine's cloth, before any cushion or ball).
+PUSH_HEADINGS = 16
+PUSH_SPEEDS = (0.2, 0.35, 0.5)
 
 
 class Kind(StrEnum):
@@ -70,6 +81,7 @@ class Kind(StrEnum):
     CONTACT = "contact"
     KICK = "kick"
     CAROM = "carom"
+    PUSH_OUT = "push_out"
 
 
 @dataclass(frozen=True, slots=True)
@@ -142,10 +154,10 @@ EXTRA_MIN_CHANCE = 0.2
 EXTRA_SPEEDS = (1.0, 1.4)
 
 
-def _varied(spot: Spot, p: Pot, speeds: tuple[float, ...], spins: tuple[float, ...]):
+def _varied(spot: Spot, p: Pot, speeds: tuple[float, ...], spins: tuple[tuple[float, float], ...]):
     for f in speeds:
-        for b in spins:
-            strike = {"speed": round(f * pot_speed(p), 3), "heading": p.heading, "b": b}
+        for a, b in spins:
+            strike = {"speed": round(f * pot_speed(p), 3), "heading": p.heading, "a": a, "b": b}
             yield Candidate(spot.shot(p.target, p.pocket, **strike), Kind(p.via), p)
 
 
@@ -166,7 +178,7 @@ def pot_candidates(where: list[Spot], targets: frozenset[str], n: int) -> list[C
         for find in (banks, combos):
             found = find(s.table, s.cue, s.balls, targets, NOISE_FOR_RANKING)
             likely = [p for p in found if p.chance >= EXTRA_MIN_CHANCE][:EXTRA_POTS]
-            out += [c for p in likely for c in _varied(s, p, EXTRA_SPEEDS, (0.0,))]
+            out += [c for p in likely for c in _varied(s, p, EXTRA_SPEEDS, ((0.0, 0.0),))]
     return out
 
 
@@ -203,6 +215,17 @@ def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
                 for v in KICK_SPEEDS:
                     shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, bounce))
                     out.append(Candidate(shot, Kind.KICK))
+    return out
+
+
+def push_out_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
+    """Push-outs: the cue ball rolled softly in PUSH_HEADINGS directions at PUSH_SPEEDS."""
+    t = min(targets, key=lambda t: (math.dist(spot.cue, spot.balls[t]), t))
+    out = []
+    for k in range(PUSH_HEADINGS):
+        for v in PUSH_SPEEDS:
+            shot = spot.shot(t, speed=v, heading=360.0 * k / PUSH_HEADINGS)
+            out.append(Candidate(shot.model_copy(update={"push_out": True}), Kind.PUSH_OUT))
     return out
 
 
@@ -244,7 +267,8 @@ def carom_candidates(state: State, budget: int) -> list[Candidate]:
 
 def candidates(state: State, level: Level) -> list[Candidate]:
     """The candidates for the player to shoot in `state` (no choice pending), those the
-    referee accepts, in a fixed order: pots first (likeliest first), then contacts."""
+    referee accepts, in a fixed order: pots first (likeliest first), then contacts, then
+    push-outs."""
     now = allowed(state)
     ref = referee(state.game)
     if not ref.TABLE.pockets:
@@ -257,6 +281,8 @@ def candidates(state: State, level: Level) -> list[Candidate]:
         found = pot_candidates(where, targets, level.pots)
         for spot in where[:CONTACT_SPOTS]:
             found += contact_candidates(spot, targets)
+        if now.options.push_out and where:
+            found += push_out_candidates(where[0], targets)
         if not found and where:
             found = [plain(where[0], targets)]
     return [c for c in found if accepted(state, c)]

@@ -206,9 +206,8 @@ def test_a_decision_does_not_depend_on_the_interpreter_run():
     assert runs[0] == runs[1] and runs[0].count("\n") == 3
 
 
-def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
-    """The 1 ringed by six balls, the cue ball in hand: no pot is open, the bot still plays
-    a legal input (from a place on the grid over the table)."""
+def ringed_one() -> dict:
+    """The 1 ringed by six balls 1 mm apart: no stroke can reach it."""
     centre, d = (0.635, 1.27), 2 * POOL_TABLE.R + 0.001
     ring = {
         str(n): (
@@ -217,7 +216,13 @@ def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
         )
         for k, n in enumerate(range(2, 8))
     }
-    state = nineball({"1": centre, **ring, "9": (0.2, 2.3)}, ball_in_hand="anywhere")
+    return {"1": centre, **ring, "9": (0.2, 2.3)}
+
+
+def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
+    """The 1 ringed by six balls, the cue ball in hand: no pot is open, the bot still plays
+    a legal input (from a place on the grid over the table)."""
+    state = nineball(ringed_one(), ball_in_hand="anywhere")
     assert not candidates_with_pots(state)
     action = Bot(QUICK, seed=1).choose(state)
     check(state, action)
@@ -226,3 +231,19 @@ def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
 
 def candidates_with_pots(state: State) -> list:
     return [c for c in candidates(state, STRONGEST) if c.pot is not None]
+
+
+def test_it_pushes_out_after_the_break_when_the_table_offers_nothing():
+    """The shot after the break with the 1 out of reach: any stroke fouls (ball in hand for
+    the opponent), so the bot pushes out, which the referee rules no foul and which leaves
+    the opponent the choice; later in the rack the push-out is not offered, and not tried."""
+    balls = {**ringed_one(), "cue": (0.3, 0.4)}
+    state = State(game=Game.NINEBALL, balls=balls, shots=1)
+    bot = Bot(STRONGEST, seed=3)
+    shot = bot.choose(state)
+    assert shot.push_out and bot.last.kind == Kind.PUSH_OUT
+    outcome = play(state, shot)
+    assert not outcome.decision.fouls and set(outcome.state.pending) == {"play_on", "play_again"}
+    later = state.evolve(shots=5)
+    assert not any(c.shot.push_out for c in candidates(later, STRONGEST))
+    assert not Bot(QUICK, seed=3).choose(later).push_out
