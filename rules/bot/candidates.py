@@ -6,7 +6,8 @@
   and two-ball combinations, varied in speed.
 - Contacts, which are the safeties: the nearest legal balls hit full, half-ball and thin on
   either side, soft to firm. Kicks: when no legal ball can be hit straight, contacts off one
-  cushion, which is also the escape from a snooker.
+  cushion, or off two when no one-cushion path is open, which is also the escape from a
+  snooker.
 - Three-cushion: a fan of headings around each object ball, with running and check side, at
   two speeds; which of them score is for the simulation to say.
 - Push-outs, when the referee offers one (nine-ball, the shot after the break): soft rolls of
@@ -26,9 +27,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import StrEnum
+from itertools import pairwise
 
 from rules.aim import path_clear
-from rules.bot.geometry import Pot, banks, combos, cushion_bounces, pots
+from rules.bot.geometry import Pot, banks, combos, cushion_bounces, pots, two_cushion_paths
 from rules.bot.levels import Level
 from rules.bot.noise import Noise
 from rules.bot.placements import placements
@@ -46,10 +48,17 @@ from rules.state import State
 POT_SPEEDS = (0.75, 1.0, 1.4)
 POT_SPINS = ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3), (-0.3, 0.0), (0.3, 0.0))
 #: Aim offsets of a contact (the cue ball's line passes this many ball diameters from the
-#: object ball's centre: 0 full, 0.5 half-ball, 0.85 thin) and its speeds (m/s).
+#: object ball's centre: 0 full, 0.5 half-ball, 0.85 thin) and its strokes (speed in m/s,
+#: draw/follow b): soft to firm, and a drawn one that keeps the cue ball near the contact.
 CONTACT_OFFSETS = (0.0, 0.5, -0.5, 0.85, -0.85)
-CONTACT_SPEEDS = (1.0, 2.0, 3.5)
+CONTACT_STROKES = ((0.6, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, -0.4), (3.5, 0.0))
 KICK_SPEEDS = (1.5, 2.5, 4.0)
+#: Two-cushion kicks: turns (degrees) of the mirror heading tried, since a cushion is no
+#: mirror (it gives back less speed than it took, and spin bends the path) and the error
+#: grows over two of them; the simulation finds which turn reaches the ball.
+TWO_CUSHION_FAN = (-3.0, -1.5, 0.0, 1.5, 3.0)
+#: The speed (m/s) of the stroke of last resort, straight at the nearest legal ball.
+PLAIN_SPEED = 2.0
 #: Legal balls tried for contacts, nearest first, and from how many cue-ball spots.
 CONTACT_TARGETS = 3
 CONTACT_SPOTS = 3
@@ -200,8 +209,8 @@ def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
         points = _contact_points(spot.cue, spot.balls[t], R)
         clear = [p for p in points if path_clear(spot.cue, p, spot.balls, R, ignore(t))]
         for aim_at in clear:
-            for v in CONTACT_SPEEDS:
-                shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, aim_at))
+            for v, b in CONTACT_STROKES:
+                shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, aim_at), b=b)
                 out.append(Candidate(shot, Kind.CONTACT))
         seen += bool(clear)
         if seen == CONTACT_TARGETS:
@@ -210,12 +219,29 @@ def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
         return out
     for t in near:
         for bounce in cushion_bounces(spot.table, spot.cue, spot.balls[t]):
-            to_bounce = path_clear(spot.cue, bounce, spot.balls, R, ignore(t))
-            if to_bounce and path_clear(bounce, spot.balls[t], spot.balls, R, ignore(t)):
-                for v in KICK_SPEEDS:
-                    shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, bounce))
-                    out.append(Candidate(shot, Kind.KICK))
+            out += kicks(spot, t, (bounce,))
+    if out:
+        return out
+    for t in near:
+        for bounces in two_cushion_paths(spot.table, spot.cue, spot.balls[t]):
+            out += kicks(spot, t, bounces, TWO_CUSHION_FAN)
     return out
+
+
+def kicks(
+    spot: Spot, t: str, bounces: tuple[Point, ...], fan: tuple[float, ...] = (0.0,)
+) -> list[Candidate]:
+    """Kicks at `t` by way of `bounces` (cushion points, in order), if every leg is clear:
+    at the mirror heading turned by each of `fan` (degrees), at each of KICK_SPEEDS."""
+    legs = pairwise((spot.cue, *bounces, spot.balls[t]))
+    if not all(path_clear(a, b, spot.balls, spot.table.R, {spot.now.cue, t}) for a, b in legs):
+        return []
+    heading = heading_to(spot.cue, bounces[0])
+    return [
+        Candidate(spot.shot(t, speed=v, heading=heading + turn), Kind.KICK)
+        for turn in fan
+        for v in KICK_SPEEDS
+    ]
 
 
 def push_out_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
@@ -292,7 +318,7 @@ def plain(spot: Spot, targets: frozenset[str]) -> Candidate:
     """The stroke of last resort, when no contact was found: straight at the nearest legal
     ball, whatever is in the way."""
     t = min(targets, key=lambda t: (math.dist(spot.cue, spot.balls[t]), t))
-    shot = spot.shot(t, speed=CONTACT_SPEEDS[1], heading=heading_to(spot.cue, spot.balls[t]))
+    shot = spot.shot(t, speed=PLAIN_SPEED, heading=heading_to(spot.cue, spot.balls[t]))
     return Candidate(shot, Kind.CONTACT)
 
 

@@ -14,8 +14,9 @@ import pytest
 
 import physics
 from rules.aim import snookered
-from rules.bot.candidates import Kind, candidates
+from rules.bot.candidates import Kind, candidates, kicks, spots
 from rules.bot.chooser import Bot, Picker, chooser
+from rules.bot.geometry import cushion_bounces
 from rules.bot.levels import LEVELS, STRONGEST, level
 from rules.bot.noise import draws, perturb, tournament
 from rules.bot.search import InProcess, search
@@ -23,7 +24,7 @@ from rules.game import Setup, check, play, start
 from rules.inputs import Choice, Shot
 from rules.racks import Game
 from rules.record import GameRecord, replay
-from rules.referee import referee
+from rules.referee import allowed, referee
 from rules.spots import POOL_TABLE, SNOOKER, SNOOKER_SPOTS
 from rules.state import State
 from tests.rules.bot.positions import random_position
@@ -103,6 +104,26 @@ def test_it_escapes_a_snooker():
     assert bot.last.kind == Kind.KICK
     decision = play(state, shot).decision
     assert not decision.fouls
+
+
+#: Random nine-ball positions (tests.rules.bot.positions) in which the 1 can be reached by
+#: no straight line and no one-cushion path, only off two cushions.
+TWO_CUSHION_SNOOKERS = (53, 226, 815, 846)
+
+
+@pytest.mark.parametrize("seed", TWO_CUSHION_SNOOKERS)
+def test_it_escapes_a_snooker_off_two_cushions(seed):
+    state = random_position(Game.NINEBALL, seed)
+    spot = spots(state)[0]
+    (on,) = allowed(state).targets
+    assert snookered("cue", {on}, state.balls, POOL_TABLE.R)
+    assert not any(
+        kicks(spot, on, (b,)) for b in cushion_bounces(POOL_TABLE, spot.cue, state.balls[on])
+    )
+    bot = Bot(STRONGEST, seed=1)
+    shot = bot.choose(state)
+    assert bot.last.kind == Kind.KICK
+    assert not play(state, shot).decision.fouls
 
 
 def test_a_game_against_the_bot_replays_from_its_record():
