@@ -45,7 +45,7 @@ from rules.state import State
 #: Speed factors and tip offsets (a: side, b: draw/follow) each straight pot is tried with:
 #: draw, stun and follow, and running or check side, which throws the cue ball off the second
 #: cushion it meets another way (position the vertical spins cannot reach).
-POT_SPEEDS = (0.75, 1.0, 1.4)
+POT_SPEEDS = (0.6, 0.8, 1.0, 1.25, 1.6)
 POT_SPINS = ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3), (-0.3, 0.0), (0.3, 0.0))
 #: Aim offsets of a contact (the cue ball's line passes this many ball diameters from the
 #: object ball's centre: 0 full, 0.5 half-ball, 0.85 thin) and its strokes (speed in m/s,
