@@ -2,12 +2,12 @@
 
 - The break (pool): from a few places behind the head string, at the rack's apex ball, hard.
 - Pots: the likeliest straight pots (rules.bot.geometry), from every place a ball in hand
-  allows, varied in speed and in follow, stun and draw; and the likeliest one-cushion banks
-  and two-ball combinations, varied in speed.
+  allows, varied in speed and in follow, stun, draw and side; and the likeliest one-cushion
+  banks and two-ball combinations, varied in speed.
 - Contacts, which are the safeties: the nearest legal balls hit full, half-ball and thin on
-  either side, soft to firm. Kicks: when no legal ball can be hit straight, contacts off one
-  cushion, or off two when no one-cushion path is open, which is also the escape from a
-  snooker.
+  either side, soft to firm, one drawn. Kicks: when no legal ball can be hit straight,
+  contacts off one cushion, or off two when no one-cushion path is open, which is also the
+  escape from a snooker.
 - Three-cushion: a fan of headings around each object ball, with running and check side, at
   two speeds; which of them score is for the simulation to say.
 - Push-outs, when the referee offers one (nine-ball, the shot after the break): soft rolls of
