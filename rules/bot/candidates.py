@@ -42,16 +42,39 @@ from rules.referee import Allowed, allowed, referee
 from rules.spots import Point, Table
 from rules.state import State
 
-#: Speed factors and tip offsets (a: side, b: draw/follow) each straight pot is tried with:
-#: draw, stun and follow, and running or check side, which throws the cue ball off the second
-#: cushion it meets another way (position the vertical spins cannot reach).
-POT_SPEEDS = (0.6, 0.8, 1.0, 1.25, 1.6)
-POT_SPINS = ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3), (-0.3, 0.0), (0.3, 0.0))
 #: Aim offsets of a contact (the cue ball's line passes this many ball diameters from the
-#: object ball's centre: 0 full, 0.5 half-ball, 0.85 thin) and its strokes (speed in m/s,
-#: draw/follow b): soft to firm, and a drawn one that keeps the cue ball near the contact.
+#: object ball's centre: 0 full, 0.5 half-ball, 0.85 thin).
 CONTACT_OFFSETS = (0.0, 0.5, -0.5, 0.85, -0.85)
-CONTACT_STROKES = ((0.6, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, -0.4), (3.5, 0.0))
+
+
+@dataclass(frozen=True, slots=True)
+class Strokes:
+    """How each straight pot and each contact is varied.
+
+    pot_speeds: factors of the pot's own speed. pot_spins: tip offsets (a: side, b: draw or
+    follow). contacts: (speed in m/s, b) of each contact.
+    """
+
+    pot_speeds: tuple[float, ...]
+    pot_spins: tuple[tuple[float, float], ...]
+    contacts: tuple[tuple[float, float], ...]
+
+
+#: The coarse set, which the smaller screens of the lower levels hold: three speeds with draw,
+#: stun and follow; contacts soft to firm.
+COARSE = Strokes(
+    (0.75, 1.0, 1.4),
+    ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3)),
+    ((1.0, 0.0), (2.0, 0.0), (3.5, 0.0)),
+)
+#: The fine set (Level.fine): five speeds, and running or check side besides, which throws
+#: the cue ball off the cushions another way (position the vertical spins cannot reach);
+#: contacts from very soft to firm, and a drawn one that keeps the cue ball near the contact.
+FINE = Strokes(
+    (0.6, 0.8, 1.0, 1.25, 1.6),
+    ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3), (-0.3, 0.0), (0.3, 0.0)),
+    ((0.6, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, -0.4), (3.5, 0.0)),
+)
 KICK_SPEEDS = (1.5, 2.5, 4.0)
 #: Two-cushion kicks: turns (degrees) of the mirror heading tried, since a cushion is no
 #: mirror (it gives back less speed than it took, and spin bends the path) and the error
@@ -170,7 +193,9 @@ def _varied(spot: Spot, p: Pot, speeds: tuple[float, ...], spins: tuple[tuple[fl
             yield Candidate(spot.shot(p.target, p.pocket, **strike), Kind(p.via), p)
 
 
-def pot_candidates(where: list[Spot], targets: frozenset[str], n: int) -> list[Candidate]:
+def pot_candidates(
+    where: list[Spot], targets: frozenset[str], n: int, strokes: Strokes
+) -> list[Candidate]:
     """The n likeliest straight pots over every spot, each varied in speed and spin, then the
     likeliest banks and combinations from the first spot."""
     direct = sorted(
@@ -181,7 +206,9 @@ def pot_candidates(where: list[Spot], targets: frozenset[str], n: int) -> list[C
         ),
         key=lambda pi: (-pi[0].chance, pi[1], pi[0].target, pi[0].pocket),
     )[:n]
-    out = [c for p, i in direct for c in _varied(where[i], p, POT_SPEEDS, POT_SPINS)]
+    out = [
+        c for p, i in direct for c in _varied(where[i], p, strokes.pot_speeds, strokes.pot_spins)
+    ]
     if where:
         s = where[0]
         for find in (banks, combos):
@@ -198,7 +225,7 @@ def _contact_points(cue: Point, at: Point, R: float) -> list[Point]:
     return [(at[0] + f * px, at[1] + f * py) for f in CONTACT_OFFSETS]
 
 
-def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
+def contact_candidates(spot: Spot, targets: frozenset[str], strokes: Strokes) -> list[Candidate]:
     """Contacts on the nearest legal balls in sight; kicks off one cushion when none is."""
     R = spot.table.R
     ignore = lambda t: {spot.now.cue, t}  # noqa: E731
@@ -209,7 +236,7 @@ def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
         points = _contact_points(spot.cue, spot.balls[t], R)
         clear = [p for p in points if path_clear(spot.cue, p, spot.balls, R, ignore(t))]
         for aim_at in clear:
-            for v, b in CONTACT_STROKES:
+            for v, b in strokes.contacts:
                 shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, aim_at), b=b)
                 out.append(Candidate(shot, Kind.CONTACT))
         seen += bool(clear)
@@ -304,9 +331,10 @@ def candidates(state: State, level: Level) -> list[Candidate]:
     else:
         where = spots(state)
         targets = now.targets | (now.options.nominate if state.free_ball else frozenset())
-        found = pot_candidates(where, targets, level.pots)
+        strokes = FINE if level.fine else COARSE
+        found = pot_candidates(where, targets, level.pots, strokes)
         for spot in where[:CONTACT_SPOTS]:
-            found += contact_candidates(spot, targets)
+            found += contact_candidates(spot, targets, strokes)
         if now.options.push_out and where:
             found += push_out_candidates(where[0], targets)
         if not found and where:
