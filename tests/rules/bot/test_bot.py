@@ -268,3 +268,17 @@ def test_it_pushes_out_after_the_break_when_the_table_offers_nothing():
     later = state.evolve(shots=5)
     assert not any(c.shot.push_out for c in candidates(later, STRONGEST))
     assert not Bot(QUICK, seed=3).choose(later).push_out
+
+
+@pytest.mark.parametrize("lv", LEVELS[1:], ids=lambda lv: f"level{lv.number}")
+def test_every_level_but_the_first_screens_a_safety(lv):
+    """However many pots the table offers, a contact or a kick is among the candidates a
+    level screens (its strokes are set so that the pots' variations leave room for them)."""
+    for game in (Game.NINEBALL, Game.EIGHTBALL, Game.SNOOKER):
+        for seed in range(30):
+            state = random_position(game, seed)
+            if state.pending:
+                continue
+            found = candidates(state, lv)
+            safe = [c.kind in (Kind.CONTACT, Kind.KICK) for c in found]
+            assert any(safe[: lv.screen]) == any(safe), (game, seed)
