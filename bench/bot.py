@@ -97,7 +97,8 @@ def run_row(row: Row, games: int, args: argparse.Namespace) -> dict:
         lo, hi = wilson(sa.wins, i + 1)
         print(
             f"{row.label}: game {i + 1}/{games}, {sa.name} {sa.wins} - {sb.wins} {sb.name}"
-            f" ({sa.wins / (i + 1):.0%} [{lo:.2f}, {hi:.2f}], {sa.run_outs} run-outs)",
+            f" ({sa.wins / (i + 1):.0%} [{lo:.2f}, {hi:.2f}], {sa.run_outs} run-outs,"
+            f" highest {sa.highest})",
             file=sys.stderr,
             flush=True,
         )
