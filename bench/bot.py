@@ -24,7 +24,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from rules.bot.arena import arena
+from rules.bot.arena import arena, wilson
 from rules.bot.chooser import chooser
 from rules.bot.levels import LEVELS, STRONGEST
 from rules.bot.noise import tournament
@@ -94,8 +94,11 @@ def run_row(row: Row, games: int, args: argparse.Namespace) -> dict:
     b = chooser(row.b, 2 * args.seed + 2, expect=args.noise, workers=args.workers)
 
     def progress(i, game, sa, sb) -> None:
+        lo, hi = wilson(sa.wins, i + 1)
         print(
-            f"{row.label}: game {i + 1}/{games}, {sa.name} {sa.wins} - {sb.wins} {sb.name}",
+            f"{row.label}: game {i + 1}/{games}, {sa.name} {sa.wins} - {sb.wins} {sb.name}"
+            f" ({sa.wins / (i + 1):.0%} [{lo:.2f}, {hi:.2f}], {sa.run_outs} run-outs,"
+            f" highest {sa.highest})",
             file=sys.stderr,
             flush=True,
         )

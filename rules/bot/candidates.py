@@ -2,13 +2,19 @@
 
 - The break (pool): from a few places behind the head string, at the rack's apex ball, hard.
 - Pots: the likeliest straight pots (rules.bot.geometry), from every place a ball in hand
-  allows, varied in speed and in follow, stun and draw; and the likeliest one-cushion banks
-  and two-ball combinations, varied in speed.
+  allows, varied in speed and in follow, stun, draw and side; and the likeliest one-cushion
+  banks and two-ball combinations, varied in speed.
 - Contacts, which are the safeties: the nearest legal balls hit full, half-ball and thin on
-  either side, soft to firm. Kicks: when no legal ball can be hit straight, contacts off one
-  cushion, which is also the escape from a snooker.
+  either side, soft to firm, one drawn. Kicks: when no legal ball can be hit straight,
+  contacts off one cushion, or off two when no one-cushion path is open, which is also the
+  escape from a snooker.
 - Three-cushion: a fan of headings around each object ball, with running and check side, at
   two speeds; which of them score is for the simulation to say.
+- Push-outs, when the referee offers one (nine-ball, the shot after the break): soft rolls of
+  the cue ball all around the compass. The opponent then chooses who shoots from the table
+  left, so the search values a push-out as the worse of the two for the bot (rules.bot.value
+  reads the choice the referee offers); it wins only when no shot is better than a table
+  neither player wants.
 
 Every candidate carries the declarations the referee asks for (the called pocket on the 8, the
 nomination in snooker) and is checked with `rules.game.check` before it is kept, so the search
@@ -21,9 +27,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import StrEnum
+from itertools import pairwise
 
 from rules.aim import path_clear
-from rules.bot.geometry import Pot, banks, combos, cushion_bounces, pots
+from rules.bot.geometry import Pot, banks, combos, cushion_bounces, pots, two_cushion_paths
 from rules.bot.levels import Level
 from rules.bot.noise import Noise
 from rules.bot.placements import placements
@@ -35,14 +42,46 @@ from rules.referee import Allowed, allowed, referee
 from rules.spots import Point, Table
 from rules.state import State
 
-#: Speed factors and draw/follow (tip offset b) each pot is tried with.
-POT_SPEEDS = (0.75, 1.0, 1.4)
-POT_SPINS = (-0.3, 0.0, 0.3)
 #: Aim offsets of a contact (the cue ball's line passes this many ball diameters from the
-#: object ball's centre: 0 full, 0.5 half-ball, 0.85 thin) and its speeds (m/s).
+#: object ball's centre: 0 full, 0.5 half-ball, 0.85 thin).
 CONTACT_OFFSETS = (0.0, 0.5, -0.5, 0.85, -0.85)
-CONTACT_SPEEDS = (1.0, 2.0, 3.5)
+
+
+@dataclass(frozen=True, slots=True)
+class Strokes:
+    """How each straight pot and each contact is varied.
+
+    pot_speeds: factors of the pot's own speed. pot_spins: tip offsets (a: side, b: draw or
+    follow). contacts: (speed in m/s, b) of each contact.
+    """
+
+    pot_speeds: tuple[float, ...]
+    pot_spins: tuple[tuple[float, float], ...]
+    contacts: tuple[tuple[float, float], ...]
+
+
+#: The coarse set, which the smaller screens of the lower levels hold: three speeds with draw,
+#: stun and follow; contacts soft to firm.
+COARSE = Strokes(
+    (0.75, 1.0, 1.4),
+    ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3)),
+    ((1.0, 0.0), (2.0, 0.0), (3.5, 0.0)),
+)
+#: The fine set (Level.fine): five speeds, and running or check side besides, which throws
+#: the cue ball off the cushions another way (position the vertical spins cannot reach);
+#: contacts from very soft to firm, and a drawn one that keeps the cue ball near the contact.
+FINE = Strokes(
+    (0.6, 0.8, 1.0, 1.25, 1.6),
+    ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3), (-0.3, 0.0), (0.3, 0.0)),
+    ((0.6, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, -0.4), (3.5, 0.0)),
+)
 KICK_SPEEDS = (1.5, 2.5, 4.0)
+#: Two-cushion kicks: turns (degrees) of the mirror heading tried, since a cushion is no
+#: mirror (it gives back less speed than it took, and spin bends the path) and the error
+#: grows over two of them; the simulation finds which turn reaches the ball.
+TWO_CUSHION_FAN = (-3.0, -1.5, 0.0, 1.5, 3.0)
+#: The speed (m/s) of the stroke of last resort, straight at the nearest legal ball.
+PLAIN_SPEED = 2.0
 #: Legal balls tried for contacts, nearest first, and from how many cue-ball spots.
 CONTACT_TARGETS = 3
 CONTACT_SPOTS = 3
@@ -58,6 +97,10 @@ FAN_WIDTH = 60.0
 FAN_SIDES = (-0.4, 0.0, 0.4)
 FAN_SPEEDS = (3.0, 4.5)
 FAN_FOLLOW = 0.1
+#: Push-outs: evenly spaced headings, and speeds (m/s) that roll the cue ball a short way
+#: (about 0.1, 0.3 and 0.65 m on the engine's cloth, before any cushion or ball).
+PUSH_HEADINGS = 16
+PUSH_SPEEDS = (0.2, 0.35, 0.5)
 
 
 class Kind(StrEnum):
@@ -70,6 +113,7 @@ class Kind(StrEnum):
     CONTACT = "contact"
     KICK = "kick"
     CAROM = "carom"
+    PUSH_OUT = "push_out"
 
 
 @dataclass(frozen=True, slots=True)
@@ -142,14 +186,16 @@ EXTRA_MIN_CHANCE = 0.2
 EXTRA_SPEEDS = (1.0, 1.4)
 
 
-def _varied(spot: Spot, p: Pot, speeds: tuple[float, ...], spins: tuple[float, ...]):
+def _varied(spot: Spot, p: Pot, speeds: tuple[float, ...], spins: tuple[tuple[float, float], ...]):
     for f in speeds:
-        for b in spins:
-            strike = {"speed": round(f * pot_speed(p), 3), "heading": p.heading, "b": b}
+        for a, b in spins:
+            strike = {"speed": round(f * pot_speed(p), 3), "heading": p.heading, "a": a, "b": b}
             yield Candidate(spot.shot(p.target, p.pocket, **strike), Kind(p.via), p)
 
 
-def pot_candidates(where: list[Spot], targets: frozenset[str], n: int) -> list[Candidate]:
+def pot_candidates(
+    where: list[Spot], targets: frozenset[str], n: int, strokes: Strokes
+) -> list[Candidate]:
     """The n likeliest straight pots over every spot, each varied in speed and spin, then the
     likeliest banks and combinations from the first spot."""
     direct = sorted(
@@ -160,13 +206,15 @@ def pot_candidates(where: list[Spot], targets: frozenset[str], n: int) -> list[C
         ),
         key=lambda pi: (-pi[0].chance, pi[1], pi[0].target, pi[0].pocket),
     )[:n]
-    out = [c for p, i in direct for c in _varied(where[i], p, POT_SPEEDS, POT_SPINS)]
+    out = [
+        c for p, i in direct for c in _varied(where[i], p, strokes.pot_speeds, strokes.pot_spins)
+    ]
     if where:
         s = where[0]
         for find in (banks, combos):
             found = find(s.table, s.cue, s.balls, targets, NOISE_FOR_RANKING)
             likely = [p for p in found if p.chance >= EXTRA_MIN_CHANCE][:EXTRA_POTS]
-            out += [c for p in likely for c in _varied(s, p, EXTRA_SPEEDS, (0.0,))]
+            out += [c for p in likely for c in _varied(s, p, EXTRA_SPEEDS, ((0.0, 0.0),))]
     return out
 
 
@@ -177,7 +225,7 @@ def _contact_points(cue: Point, at: Point, R: float) -> list[Point]:
     return [(at[0] + f * px, at[1] + f * py) for f in CONTACT_OFFSETS]
 
 
-def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
+def contact_candidates(spot: Spot, targets: frozenset[str], strokes: Strokes) -> list[Candidate]:
     """Contacts on the nearest legal balls in sight; kicks off one cushion when none is."""
     R = spot.table.R
     ignore = lambda t: {spot.now.cue, t}  # noqa: E731
@@ -188,8 +236,8 @@ def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
         points = _contact_points(spot.cue, spot.balls[t], R)
         clear = [p for p in points if path_clear(spot.cue, p, spot.balls, R, ignore(t))]
         for aim_at in clear:
-            for v in CONTACT_SPEEDS:
-                shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, aim_at))
+            for v, b in strokes.contacts:
+                shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, aim_at), b=b)
                 out.append(Candidate(shot, Kind.CONTACT))
         seen += bool(clear)
         if seen == CONTACT_TARGETS:
@@ -198,11 +246,39 @@ def contact_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
         return out
     for t in near:
         for bounce in cushion_bounces(spot.table, spot.cue, spot.balls[t]):
-            to_bounce = path_clear(spot.cue, bounce, spot.balls, R, ignore(t))
-            if to_bounce and path_clear(bounce, spot.balls[t], spot.balls, R, ignore(t)):
-                for v in KICK_SPEEDS:
-                    shot = spot.shot(t, speed=v, heading=heading_to(spot.cue, bounce))
-                    out.append(Candidate(shot, Kind.KICK))
+            out += kicks(spot, t, (bounce,))
+    if out:
+        return out
+    for t in near:
+        for bounces in two_cushion_paths(spot.table, spot.cue, spot.balls[t]):
+            out += kicks(spot, t, bounces, TWO_CUSHION_FAN)
+    return out
+
+
+def kicks(
+    spot: Spot, t: str, bounces: tuple[Point, ...], fan: tuple[float, ...] = (0.0,)
+) -> list[Candidate]:
+    """Kicks at `t` by way of `bounces` (cushion points, in order), if every leg is clear:
+    at the mirror heading turned by each of `fan` (degrees), at each of KICK_SPEEDS."""
+    legs = pairwise((spot.cue, *bounces, spot.balls[t]))
+    if not all(path_clear(a, b, spot.balls, spot.table.R, {spot.now.cue, t}) for a, b in legs):
+        return []
+    heading = heading_to(spot.cue, bounces[0])
+    return [
+        Candidate(spot.shot(t, speed=v, heading=heading + turn), Kind.KICK)
+        for turn in fan
+        for v in KICK_SPEEDS
+    ]
+
+
+def push_out_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
+    """Push-outs: the cue ball rolled softly in PUSH_HEADINGS directions at PUSH_SPEEDS."""
+    t = min(targets, key=lambda t: (math.dist(spot.cue, spot.balls[t]), t))
+    out = []
+    for k in range(PUSH_HEADINGS):
+        for v in PUSH_SPEEDS:
+            shot = spot.shot(t, speed=v, heading=360.0 * k / PUSH_HEADINGS)
+            out.append(Candidate(shot.model_copy(update={"push_out": True}), Kind.PUSH_OUT))
     return out
 
 
@@ -244,7 +320,8 @@ def carom_candidates(state: State, budget: int) -> list[Candidate]:
 
 def candidates(state: State, level: Level) -> list[Candidate]:
     """The candidates for the player to shoot in `state` (no choice pending), those the
-    referee accepts, in a fixed order: pots first (likeliest first), then contacts."""
+    referee accepts, in a fixed order: pots first (likeliest first), then contacts, then
+    push-outs."""
     now = allowed(state)
     ref = referee(state.game)
     if not ref.TABLE.pockets:
@@ -254,9 +331,12 @@ def candidates(state: State, level: Level) -> list[Candidate]:
     else:
         where = spots(state)
         targets = now.targets | (now.options.nominate if state.free_ball else frozenset())
-        found = pot_candidates(where, targets, level.pots)
+        strokes = FINE if level.fine else COARSE
+        found = pot_candidates(where, targets, level.pots, strokes)
         for spot in where[:CONTACT_SPOTS]:
-            found += contact_candidates(spot, targets)
+            found += contact_candidates(spot, targets, strokes)
+        if now.options.push_out and where:
+            found += push_out_candidates(where[0], targets)
         if not found and where:
             found = [plain(where[0], targets)]
     return [c for c in found if accepted(state, c)]
@@ -266,7 +346,7 @@ def plain(spot: Spot, targets: frozenset[str]) -> Candidate:
     """The stroke of last resort, when no contact was found: straight at the nearest legal
     ball, whatever is in the way."""
     t = min(targets, key=lambda t: (math.dist(spot.cue, spot.balls[t]), t))
-    shot = spot.shot(t, speed=CONTACT_SPEEDS[1], heading=heading_to(spot.cue, spot.balls[t]))
+    shot = spot.shot(t, speed=PLAIN_SPEED, heading=heading_to(spot.cue, spot.balls[t]))
     return Candidate(shot, Kind.CONTACT)
 
 

@@ -234,22 +234,60 @@ def combos(
     return _likeliest(found)
 
 
+def _rails(table: Table) -> tuple[tuple[int, float], ...]:
+    """The four lines a ball's centre meets a cushion on: (axis, coordinate), R inside."""
+    R = table.R
+    return ((0, R), (0, table.width - R), (1, R), (1, table.length - R))
+
+
+def _mirrored(p: Point, rail: tuple[int, float]) -> Point:
+    axis, at = rail
+    q = [p[0], p[1]]
+    q[axis] = 2 * at - p[axis]
+    return (q[0], q[1])
+
+
+def _crossing(table: Table, start: Point, image: Point, rail: tuple[int, float]) -> Point | None:
+    """Where the segment from `start` to `image` meets `rail`, if it does on the table and
+    not within a ball of a pocket (the ball would drop)."""
+    axis, at = rail
+    span = image[axis] - start[axis]
+    if abs(span) < 1e-9:
+        return None
+    f = (at - start[axis]) / span
+    if not 0.0 < f < 1.0:
+        return None
+    p = (start[0] + f * (image[0] - start[0]), start[1] + f * (image[1] - start[1]))
+    R, eps = table.R, 1e-9
+    inside = R - eps <= p[0] <= table.width - R + eps and R - eps <= p[1] <= table.length - R + eps
+    if inside and all(math.dist(p, k.center) > k.radius + 2 * R for k in table.pockets):
+        return p
+    return None
+
+
 def cushion_bounces(table: Table, start: Point, end: Point) -> list[Point]:
     """Where a ball's centre, travelling from `start`, meets each of the four cushion lines
     (R inside the rails) on a one-cushion path that ends at `end`: mirror `end` in the line
     and intersect. Bounces within a ball of a pocket are left out (the ball would drop)."""
-    R = table.R
     found = []
-    for axis, line in ((0, R), (0, table.width - R), (1, R), (1, table.length - R)):
-        image = list(end)
-        image[axis] = 2 * line - end[axis]
-        span = image[axis] - start[axis]
-        if abs(span) < 1e-9:
-            continue
-        f = (line - start[axis]) / span
-        if not 0.0 < f < 1.0:
-            continue
-        at = (start[0] + f * (image[0] - start[0]), start[1] + f * (image[1] - start[1]))
-        if all(math.dist(at, p.center) > p.radius + 2 * R for p in table.pockets):
+    for rail in _rails(table):
+        at = _crossing(table, start, _mirrored(end, rail), rail)
+        if at is not None:
             found.append(at)
+    return found
+
+
+def two_cushion_paths(table: Table, start: Point, end: Point) -> list[tuple[Point, Point]]:
+    """The two bounces of each two-cushion path from `start` to `end` (the cushions taken as
+    mirrors: `end` mirrored in the second line, that image in the first), first bounce first."""
+    found = []
+    for first in _rails(table):
+        for second in _rails(table):
+            if first == second:
+                continue
+            image = _mirrored(end, second)
+            b1 = _crossing(table, start, _mirrored(image, first), first)
+            b2 = None if b1 is None else _crossing(table, b1, image, second)
+            if b2 is not None:
+                found.append((b1, b2))
     return found

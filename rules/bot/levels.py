@@ -11,12 +11,15 @@ is a function of the position, the level and the seed alone (see rules.bot.searc
 - width, samples: how many of the best screened go on to `samples` noisy simulations each;
 - leaders, leader_samples: how many of those get `leader_samples` more, before the best
   mean decides;
+- fine: pots and contacts varied with the fine set of strokes (rules.bot.candidates: five
+  speeds and side), which only a wide screen holds; the coarse set otherwise;
 - cap: a wall-clock safety limit (s). A search that reaches it stops between stages and plays
   the best shot found so far; that decision, unlike all others, depends on the machine's speed
   (the search reports it). With the budgets below it is not reached on today's engine.
 
-The sample counts are set for the engine's present speed (pure Python: about a millisecond a
-plain shot); a faster engine should buy more samples here, in this one table.
+The sample counts are set for the engine's present speed (the compiled kernel: about 0.4 ms a
+plain nine-ball shot, so that the strongest level's ~700 simulations take well under a second);
+a faster engine should buy more samples here, in this one table.
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ class Level:
     samples: int
     leaders: int
     leader_samples: int
+    fine: bool = False
     cap: float = 60.0
 
     @property
@@ -43,13 +47,13 @@ class Level:
         return 2 * self.screen + self.width * self.samples + self.leaders * self.leader_samples
 
 
-#: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples.
+#: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples, fine.
 TABLE = (
-    (1, 6.0, 2, 12, 3, 2, 0, 0),
-    (2, 4.0, 3, 40, 6, 3, 2, 6),
-    (3, 2.5, 4, 100, 8, 5, 3, 10),
-    (4, 1.2, 5, 200, 12, 6, 4, 16),
-    (5, 0.0, 6, 400, 16, 10, 5, 32),
+    (1, 6.0, 2, 12, 3, 2, 0, 0, False),
+    (2, 4.0, 3, 40, 6, 3, 2, 6, False),
+    (3, 2.5, 4, 100, 8, 5, 3, 10, False),
+    (4, 1.2, 5, 200, 12, 6, 4, 16, False),
+    (5, 0.0, 8, 500, 24, 12, 6, 40, True),
 )
 LEVELS: tuple[Level, ...] = tuple(Level(*row) for row in TABLE)
 STRONGEST = LEVELS[-1]

@@ -2,8 +2,9 @@
 
 Each position places a random subset of the game's balls at random free points of the table,
 with a random player to act and the game-specific fields drawn consistently (eight-ball
-groups, snooker's ball on and free ball, a ball in hand, a choice pending), so that the bot
-and its candidates can be tried far from the few positions whole games reach.
+groups, snooker's ball on and free ball, a ball in hand, a choice pending, nine-ball's shot
+after the break, when a push-out is allowed), so that the bot and its candidates can be tried
+far from the few positions whole games reach.
 """
 
 from __future__ import annotations
@@ -44,6 +45,8 @@ def _pool(state: State, rng: random.Random) -> State:
         fields["groups"] = ("solids", "stripes") if rng.random() < 0.5 else ("stripes", "solids")
     if state.game == Game.NINEBALL and not in_hand and rng.random() < 0.15:
         fields["pending"] = ("play_on", "play_again")
+    elif state.game == Game.NINEBALL and rng.random() < 0.2:
+        fields["shots"] = 1  # the shot after the break: a push-out is allowed
     return state.evolve(balls=balls, **fields)
 
 

@@ -14,8 +14,9 @@ import pytest
 
 import physics
 from rules.aim import snookered
-from rules.bot.candidates import Kind, candidates
+from rules.bot.candidates import Kind, candidates, kicks, spots
 from rules.bot.chooser import Bot, Picker, chooser
+from rules.bot.geometry import cushion_bounces
 from rules.bot.levels import LEVELS, STRONGEST, level
 from rules.bot.noise import draws, perturb, tournament
 from rules.bot.search import InProcess, search
@@ -23,7 +24,7 @@ from rules.game import Setup, check, play, start
 from rules.inputs import Choice, Shot
 from rules.racks import Game
 from rules.record import GameRecord, replay
-from rules.referee import referee
+from rules.referee import allowed, referee
 from rules.spots import POOL_TABLE, SNOOKER, SNOOKER_SPOTS
 from rules.state import State
 from tests.rules.bot.positions import random_position
@@ -103,6 +104,26 @@ def test_it_escapes_a_snooker():
     assert bot.last.kind == Kind.KICK
     decision = play(state, shot).decision
     assert not decision.fouls
+
+
+#: Random nine-ball positions (tests.rules.bot.positions) in which the 1 can be reached by
+#: no straight line and no one-cushion path, only off two cushions.
+TWO_CUSHION_SNOOKERS = (53, 226, 815, 846)
+
+
+@pytest.mark.parametrize("seed", TWO_CUSHION_SNOOKERS)
+def test_it_escapes_a_snooker_off_two_cushions(seed):
+    state = random_position(Game.NINEBALL, seed)
+    spot = spots(state)[0]
+    (on,) = allowed(state).targets
+    assert snookered("cue", {on}, state.balls, POOL_TABLE.R)
+    assert not any(
+        kicks(spot, on, (b,)) for b in cushion_bounces(POOL_TABLE, spot.cue, state.balls[on])
+    )
+    bot = Bot(STRONGEST, seed=1)
+    shot = bot.choose(state)
+    assert bot.last.kind == Kind.KICK
+    assert not play(state, shot).decision.fouls
 
 
 def test_a_game_against_the_bot_replays_from_its_record():
@@ -206,9 +227,8 @@ def test_a_decision_does_not_depend_on_the_interpreter_run():
     assert runs[0] == runs[1] and runs[0].count("\n") == 3
 
 
-def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
-    """The 1 ringed by six balls, the cue ball in hand: no pot is open, the bot still plays
-    a legal input (from a place on the grid over the table)."""
+def ringed_one() -> dict:
+    """The 1 ringed by six balls 1 mm apart: no stroke can reach it."""
     centre, d = (0.635, 1.27), 2 * POOL_TABLE.R + 0.001
     ring = {
         str(n): (
@@ -217,7 +237,13 @@ def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
         )
         for k, n in enumerate(range(2, 8))
     }
-    state = nineball({"1": centre, **ring, "9": (0.2, 2.3)}, ball_in_hand="anywhere")
+    return {"1": centre, **ring, "9": (0.2, 2.3)}
+
+
+def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
+    """The 1 ringed by six balls, the cue ball in hand: no pot is open, the bot still plays
+    a legal input (from a place on the grid over the table)."""
+    state = nineball(ringed_one(), ball_in_hand="anywhere")
     assert not candidates_with_pots(state)
     action = Bot(QUICK, seed=1).choose(state)
     check(state, action)
@@ -226,3 +252,33 @@ def test_a_ball_in_hand_with_no_pot_open_still_gives_a_shot():
 
 def candidates_with_pots(state: State) -> list:
     return [c for c in candidates(state, STRONGEST) if c.pot is not None]
+
+
+def test_it_pushes_out_after_the_break_when_the_table_offers_nothing():
+    """The shot after the break with the 1 out of reach: any stroke fouls (ball in hand for
+    the opponent), so the bot pushes out, which the referee rules no foul and which leaves
+    the opponent the choice; later in the rack the push-out is not offered, and not tried."""
+    balls = {**ringed_one(), "cue": (0.3, 0.4)}
+    state = State(game=Game.NINEBALL, balls=balls, shots=1)
+    bot = Bot(STRONGEST, seed=3)
+    shot = bot.choose(state)
+    assert shot.push_out and bot.last.kind == Kind.PUSH_OUT
+    outcome = play(state, shot)
+    assert not outcome.decision.fouls and set(outcome.state.pending) == {"play_on", "play_again"}
+    later = state.evolve(shots=5)
+    assert not any(c.shot.push_out for c in candidates(later, STRONGEST))
+    assert not Bot(QUICK, seed=3).choose(later).push_out
+
+
+@pytest.mark.parametrize("lv", LEVELS[1:], ids=lambda lv: f"level{lv.number}")
+def test_every_level_but_the_first_screens_a_safety(lv):
+    """However many pots the table offers, a contact or a kick is among the candidates a
+    level screens (its strokes are set so that the pots' variations leave room for them)."""
+    for game in (Game.NINEBALL, Game.EIGHTBALL, Game.SNOOKER):
+        for seed in range(30):
+            state = random_position(game, seed)
+            if state.pending:
+                continue
+            found = candidates(state, lv)
+            safe = [c.kind in (Kind.CONTACT, Kind.KICK) for c in found]
+            assert any(safe[: lv.screen]) == any(safe), (game, seed)
