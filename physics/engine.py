@@ -842,7 +842,10 @@ def _solve(A: list, u: list, push: list) -> list | None:
                 rows[r][c] -= f * rows[col][c]
     x = [0.0] * n
     for r in range(n - 1, -1, -1):
-        x[r] = (rows[r][n] - sum(rows[r][c] * x[c] for c in range(r + 1, n))) / rows[r][r]
+        known = 0.0
+        for c in range(r + 1, n):  # a loop, not sum(): Python 3.12's sum of floats compensates
+            known += rows[r][c] * x[c]
+        x[r] = (rows[r][n] - known) / rows[r][r]
     lam = [0.0] * len(u)
     for k, r in enumerate(push):
         if x[k] < -LCP_TOL:
@@ -850,7 +853,10 @@ def _solve(A: list, u: list, push: list) -> list | None:
         lam[r] = max(x[k], 0.0)
     for r in range(len(u)):
         if r not in push:
-            after = u[r] - sum(A[r][c] * lam[c] for c in range(len(u)))
+            pushed = 0.0
+            for c in range(len(u)):
+                pushed += A[r][c] * lam[c]
+            after = u[r] - pushed
             if after > LCP_TOL:
                 return None
     return lam
