@@ -49,8 +49,8 @@ class Level:
 
 #: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples, fine.
 TABLE = (
-    (1, 6.0, 2, 12, 3, 2, 0, 0, False),
-    (2, 4.0, 3, 40, 6, 3, 2, 6, False),
+    (1, 8.0, 2, 12, 3, 2, 0, 0, False),
+    (2, 5.0, 3, 40, 6, 3, 2, 6, False),
     (3, 2.5, 4, 100, 8, 5, 3, 10, False),
     (4, 1.2, 5, 200, 12, 6, 4, 16, False),
     (5, 0.0, 8, 500, 24, 12, 6, 40, True),
