@@ -7,7 +7,7 @@ import { Controls } from "../play/controls.js";
 import { TableSession } from "../play/session.js";
 import { missingExtra, readExtras, showExtras } from "../play/extras.js";
 import { TableSounds } from "../play/sound.js";
-import { nextPoolRun, nextWords, optionWords, outcomeWords, playerName, scoreWords, seatName } from "../play/words.js";
+import { nextWords, optionWords, outcomeWords, playerName, scoreWords, seatName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableView } from "../three/view.js";
 
@@ -73,7 +73,6 @@ class PlayPage {
     this.shown = null; // the table as shown (a TableView, advanced by each outcome shown)
     this.placement = null;
     this.lastWords = "";
-    this.poolRun = 0;
     this.session = new TableSession(tableId, {
       onView: (v) => this.showView(v),
       onOutcome: (m) => this.showOutcome(m),
@@ -149,7 +148,6 @@ class PlayPage {
       this.placement = null;
       if (message.decision) {
         this.lastWords = outcomeWords(shown, message);
-        this.poolRun = nextPoolRun(this.poolRun, message.decision);
       } else if (message.void) {
         this.lastWords = `The shot could not be played (${message.void}).`;
       }
@@ -192,7 +190,7 @@ class PlayPage {
     const v = this.shown;
     const mine = this.mySeat();
     const toAct = v.status === "playing" && v.next && v.next.seat === mine;
-    this.status([this.lastWords, nextWords(v), scoreWords(v, this.poolRun)].filter(Boolean).join(" "));
+    this.status([this.lastWords, nextWords(v), scoreWords(v)].filter(Boolean).join(" "));
     this.scoreboard(v);
     const shooting = toAct && v.next.kinds.includes("shot");
     showExtras($("extras"), shooting ? v : null);

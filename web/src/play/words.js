@@ -79,24 +79,13 @@ export function nextWords(view) {
   return `${who} to shoot${hand}.`;
 }
 
-/** The current break: the referee counts snooker's break and three-cushion's run; a pool
- *  visit's balls are counted from the decisions seen (`poolRun`). */
-export function breakCount(view, poolRun) {
-  return view.game === "snooker" || view.game === "three_cushion" ? view.state.visit : poolRun;
-}
-
-/** A pool visit's run after decision d: legal balls potted while the shooter stays on. */
-export function nextPoolRun(run, d) {
-  const potted = d.pocketed.filter((b) => b !== "cue").length;
-  return !d.fouls.length && d.next_player === d.player && potted ? run + potted : 0;
-}
-
-/** The score line: racks or frames won, points in the rack, and the current break. */
-export function scoreWords(view, poolRun = 0) {
+/** The score line: racks or frames won, points in the rack, and the current break (the
+ *  referee's `visit`: snooker's break, three-cushion's run, pool's balls in one visit). */
+export function scoreWords(view) {
   const s = view.state;
   const scores = [0, 1].map((player) => `${playerName(view, player)} ${s.scores[player]}`).join(", ");
   const unit = view.game === "snooker" || view.game === "three_cushion" ? "points" : "racks";
   const race = view.options?.race_to > 1 ? ` Racks won ${view.racks_won.join("-")}.` : "";
   const best = view.mode === "practice" && Math.max(...s.best) > 0 ? ` Best break: ${Math.max(...s.best)}.` : "";
-  return `Score (${unit}): ${scores}. Break: ${breakCount(view, poolRun)}.${best}${race}`;
+  return `Score (${unit}): ${scores}. Break: ${s.visit}.${best}${race}`;
 }
