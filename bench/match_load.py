@@ -12,7 +12,10 @@ its turn), then paced at half the refereed rate the first run reached. Each prin
 - accepted -> outcome delivered (ms, p50 / p99): from the `202 accepted` answer to the outcome
   arriving on the player's and on the spectator's relay WebSocket;
 - relay p99 (ms): a probe publishes a timestamped message on its own channel every 20 ms
-  through `POST /pub/` and a subscriber times its delivery, beside the matches.
+  through `POST /pub/` and a subscriber times its delivery, beside the matches;
+- CPU ms per refereed shot, load-independent where shots/s is not: of the server process, of
+  its workers (every process under it: the fork server and the simulation workers), and of
+  this process (the clients), from /proc during the run.
 
 The clients run in this process and compete with the server for the same cores; on a shared
 machine the figures are noisy. Medians and ratios from one run are the figures to quote.
@@ -43,6 +46,7 @@ SECRET = "match-load-bench-secret-0123456789"
 @dataclass
 class Samples:
     shots: int = 0
+    cpu: tuple[float, float, float] = (0.0, 0.0, 0.0)  # s: server, its workers, the clients
     player_ms: list[float] = field(default_factory=list)
     spectator_ms: list[float] = field(default_factory=list)
     relay_ms: list[float] = field(default_factory=list)
@@ -68,6 +72,42 @@ def free_port() -> int:
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         return sock.getsockname()[1]
+
+
+def process_cpu(pid: int) -> float:
+    """CPU seconds (user + system) a live process has used so far; 0 once it is gone."""
+    try:
+        with open(f"/proc/{pid}/stat") as stat:
+            fields = stat.read().rpartition(")")[2].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def descendants(pid: int) -> list[int]:
+    """Every live process under `pid` (the server's fork server and workers)."""
+    children: dict[int, list[int]] = {}
+    for entry in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open(f"/proc/{entry}/stat") as stat:
+                parent = int(stat.read().rpartition(")")[2].split()[1])
+        except OSError:
+            continue
+        children.setdefault(parent, []).append(int(entry))
+    found, todo = [], [pid]
+    while todo:
+        below = children.get(todo.pop(), [])
+        found += below
+        todo += below
+    return found
+
+
+def cpu_now(server: int | None) -> tuple[float, float, float]:
+    """CPU seconds so far of the server, of everything under it, and of this process."""
+    mine = sum(os.times()[:2])
+    if server is None:
+        return 0.0, 0.0, mine
+    return process_cpu(server), sum(map(process_cpu, descendants(server))), mine
 
 
 def percentile(values: list[float], q: float) -> float:
@@ -151,14 +191,18 @@ async def relay_probe(base: str, session: aiohttp.ClientSession, samples: Sample
         reader.cancel()
 
 
-async def run(base: str, matches: int, seconds: float, rate: float | None) -> Samples:
+async def run(
+    base: str, matches: int, seconds: float, rate: float | None, server: int | None
+) -> Samples:
     samples = Samples()
+    before = cpu_now(server)
     stop = time.perf_counter() + seconds
     pace = Pace(rate)
     connector = aiohttp.TCPConnector(limit=0)
     async with aiohttp.ClientSession(connector=connector) as session:
         tasks = [match_loop(base, session, n, samples, pace, stop) for n in range(matches)]
         await asyncio.gather(relay_probe(base, session, samples, stop), *tasks)
+    samples.cpu = tuple(b - a for a, b in zip(before, cpu_now(server), strict=True))
     return samples
 
 
@@ -189,7 +233,8 @@ def row(label: str, samples: Samples, seconds: float, processes: int) -> str:
         f"| {percentile(samples.player_ms, 0.5):6.1f} / {percentile(samples.player_ms, 0.99):6.1f} "
         f"| {percentile(samples.spectator_ms, 0.5):6.1f} / "
         f"{percentile(samples.spectator_ms, 0.99):6.1f} "
-        f"| {percentile(samples.relay_ms, 0.99):6.1f} |"
+        f"| {percentile(samples.relay_ms, 0.99):6.1f} "
+        f"| {' / '.join(f'{1000 * cpu / max(1, samples.shots):4.1f}' for cpu in samples.cpu)} |"
     )
 
 
@@ -212,12 +257,14 @@ def main() -> None:
             processes = 1 + args.workers
             print(f"{args.matches} matches, {args.seconds:g} s per run, {args.workers} workers")
             print("| run                    | shots/s | /proc  | player p50 / p99 ms "
-                  "| spectator p50 / p99 ms | relay p99 ms |")  # fmt: skip
-            print("|---|---|---|---|---|---|")
-            full = asyncio.run(run(base, args.matches, args.seconds, None))
+                  "| spectator p50 / p99 ms | relay p99 ms "
+                  "| CPU ms/shot: server / workers / clients |")  # fmt: skip
+            print("|---|---|---|---|---|---|---|")
+            pid = None if server is None else server.pid
+            full = asyncio.run(run(base, args.matches, args.seconds, None, pid))
             print(row("flat out", full, args.seconds, processes), flush=True)
             half_rate = max(1.0, full.shots / args.seconds / 2)
-            half = asyncio.run(run(base, args.matches, args.seconds, half_rate))
+            half = asyncio.run(run(base, args.matches, args.seconds, half_rate, pid))
             print(row(f"paced at {half_rate:.0f}/s", half, args.seconds, processes), flush=True)
         finally:
             if server is not None:

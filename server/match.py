@@ -188,12 +188,17 @@ class MatchOwner:
         """The record with the intent accepted, its first answer if it is a resend, or None
         if another replica changed the table meanwhile. ServiceError for a refusal."""
         storage = self._context.storage
-        seen = await storage.find_input(record.id, intent.shot_id)
-        if seen is not None:
-            return duplicate(seen)
-        entry = validate(record, player, intent)
-        if on_time and record.deadline is not None and time.time() > record.deadline:
-            raise ServiceError(ErrorCode.WRONG_PHASE, "the shot clock ran out")
+        try:
+            entry = validate(record, player, intent)
+            if on_time and record.deadline is not None and time.time() > record.deadline:
+                raise ServiceError(ErrorCode.WRONG_PHASE, "the shot clock ran out")
+        except ServiceError:
+            # A resend (its version has passed) is answered with its first outcome; only a
+            # refused intent needs the look-up: `accept` itself refuses a shot id played before.
+            seen = await storage.find_input(record.id, intent.shot_id)
+            if seen is not None:
+                return duplicate(seen)
+            raise
         entry = entry.model_copy(update={"replica": self._context.replica})
         result = await storage.accept(record.model_copy(update={"pending": entry}))
         if result.result is AcceptResult.DUPLICATE:

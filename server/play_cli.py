@@ -139,7 +139,7 @@ async def submit(args: argparse.Namespace) -> int:
     import aiohttp
 
     from server.api_models import ClaimVerdict
-    from server.client import GameClient, Refused, from_json
+    from server.client import GameClient, Refused
 
     try:
         record = json.loads(Path(args.record).read_text())
@@ -149,8 +149,8 @@ async def submit(args: argparse.Namespace) -> int:
     async with aiohttp.ClientSession() as session:
         client = GameClient(args.url, session)
         body = {"game": game, "record": record, "name": args.name, "score": args.score}
-        _, answer = await client.request("POST", "/api/leaderboard/claims", body)
-    verdict = from_json(ClaimVerdict, answer)
+        answer = await client.fetch("POST", "/api/leaderboard/claims", body)
+    verdict = ClaimVerdict.model_validate_json(answer)
     entry = verdict.entry
     print(
         f"accepted: {entry.game} break of {entry.score} by {entry.name}, "
