@@ -141,6 +141,13 @@ class SqliteStorage(Storage):
     async def _one(self, sql: str, *args: object) -> tuple | None:
         return next(iter(await self._rows(sql, *args)), None)
 
+    async def _alone(self, sql: str, *args: object) -> int:
+        """Run one writing statement, atomic on its own (no transaction around it: one round
+        trip, not three); the number of rows it changed."""
+        async with self._lock:
+            cursor = await self._db.execute(sql, args)
+        return cursor.rowcount
+
     def _remember(self, record: TableRecord) -> None:
         """Keep `record` as its table's last committed one (called after the commit)."""
         self._tables[record.id] = record
@@ -150,23 +157,24 @@ class SqliteStorage(Storage):
 
     # ----- players ----------------------------------------------------------------------
     async def add_player(self, player: PlayerInfo) -> None:
-        async with self._transaction() as db:
-            doc = player.model_dump_json()
-            await db.execute("INSERT OR REPLACE INTO players VALUES (?, ?)", (player.id, doc))
+        doc = player.model_dump_json()
+        await self._alone("INSERT OR REPLACE INTO players VALUES (?, ?)", player.id, doc)
 
     async def get_player(self, player_id: str) -> PlayerInfo | None:
         row = await self._one("SELECT doc FROM players WHERE id = ?", player_id)
         return PlayerInfo.model_validate_json(row[0]) if row else None
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
-        async with self._transaction() as db:
-            async with db.execute("SELECT player, until FROM names WHERE key = ?", (key,)) as c:
-                row = await c.fetchone()
-            if row is not None and row[0] != player_id and row[1] >= now:
-                return False
-            claim = (key, player_id, until)
-            await db.execute("INSERT OR REPLACE INTO names VALUES (?, ?, ?)", claim)
-            return True
+        changed = await self._alone(
+            "INSERT INTO names VALUES (?, ?, ?) ON CONFLICT (key) DO UPDATE SET "
+            "player = excluded.player, until = excluded.until "
+            "WHERE names.player = excluded.player OR names.until < ?",
+            key,
+            player_id,
+            until,
+            now,
+        )
+        return changed == 1
 
     async def online_players(self, now: float) -> int:
         row = await self._one("SELECT COUNT(*) FROM names WHERE until >= ?", now)
@@ -174,22 +182,19 @@ class SqliteStorage(Storage):
 
     # ----- tables -----------------------------------------------------------------------
     async def create_table(self, record: TableRecord) -> None:
-        async with self._transaction() as db:
-            try:
-                await db.execute(
-                    "INSERT INTO tables VALUES (?, ?, '', ?, ?, ?, ?, ?)",
-                    (
-                        record.id,
-                        record.version,
-                        int(record.listed),
-                        record.created,
-                        record.deadline,
-                        record.model_dump_json(),
-                        record.expires,
-                    ),
-                )
-            except aiosqlite.IntegrityError:
-                raise ValueError(f"table {record.id} exists") from None
+        try:
+            await self._alone(
+                "INSERT INTO tables VALUES (?, ?, '', ?, ?, ?, ?, ?)",
+                record.id,
+                record.version,
+                int(record.listed),
+                record.created,
+                record.deadline,
+                record.model_dump_json(),
+                record.expires,
+            )
+        except aiosqlite.IntegrityError:
+            raise ValueError(f"table {record.id} exists") from None
         self._remember(record)
 
     async def get_table(self, table_id: str) -> TableRecord | None:
@@ -309,10 +314,7 @@ class SqliteStorage(Storage):
         return ids
 
     async def heartbeat(self, table_id: str, seat: int, now: float) -> None:
-        async with self._transaction() as db:
-            await db.execute(
-                "INSERT OR REPLACE INTO heartbeats VALUES (?, ?, ?)", (table_id, seat, now)
-            )
+        await self._alone("INSERT OR REPLACE INTO heartbeats VALUES (?, ?, ?)", table_id, seat, now)
 
     async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
         rows = await self._rows("SELECT seat, seen FROM heartbeats WHERE table_id = ?", table_id)
@@ -360,25 +362,26 @@ class SqliteStorage(Storage):
 
     # ----- replays and the leaderboard ---------------------------------------------------
     async def add_replay(self, replay: ReplayView) -> None:
-        async with self._transaction() as db:
-            await db.execute(
-                "INSERT INTO replays VALUES (?, ?)", (replay.id, replay.model_dump_json())
-            )
+        await self._alone("INSERT INTO replays VALUES (?, ?)", replay.id, replay.model_dump_json())
 
     async def get_replay(self, replay_id: str) -> ReplayView | None:
         row = await self._one("SELECT doc FROM replays WHERE id = ?", replay_id)
         return ReplayView.model_validate_json(row[0]) if row else None
 
     async def add_break(self, entry: BreakEntry, key: str) -> bool:
-        async with self._transaction() as db:
-            try:
-                await db.execute(
-                    "INSERT INTO breaks VALUES (?, ?, ?, ?, ?, ?)",
-                    (key, entry.game, entry.score, entry.name, entry.at, entry.model_dump_json()),
-                )
-            except aiosqlite.IntegrityError:
-                return False
-            return True
+        try:
+            await self._alone(
+                "INSERT INTO breaks VALUES (?, ?, ?, ?, ?, ?)",
+                key,
+                entry.game,
+                entry.score,
+                entry.name,
+                entry.at,
+                entry.model_dump_json(),
+            )
+        except aiosqlite.IntegrityError:
+            return False
+        return True
 
     async def top_breaks(self, game: str, limit: int) -> list[BreakEntry]:
         rows = await self._rows(
