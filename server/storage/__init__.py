@@ -21,9 +21,10 @@ What a backend must guarantee
 4. **Shot ids are unique per table.** `accept` refuses a shot id the table has already
    accepted and returns the stored entry instead (`Duplicate`), with its outcome once resolved.
 5. **Input log.** `inputs` lists the resolved inputs of a table in the order they were played,
-   each with its outcome, and `rack_inputs` those of one rack alone, in the same order (a
-   rack's end reads its own inputs, not the whole match's); `find_input` finds one by shot id,
-   pending or resolved.
+   each with its outcome, and `rack_inputs` those of one rack alone, in the same order, their
+   outcomes without trajectories (a rack's end reads its own inputs, not the whole match's,
+   for their inputs and states: the motion is most of their bytes); `find_input` finds one by
+   shot id, pending or resolved, with its whole outcome.
 6. **Listing.** `listed_tables` returns the tables whose last stored record is `listed` (public,
    open or playing), newest first, at most `limit`; `due_tables` those whose last stored
    record has a `deadline` at or before a time, earliest first.
@@ -134,7 +135,8 @@ class Storage(ABC):
 
     @abstractmethod
     async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
-        """The resolved inputs of one rack, in the order played (invariant 5)."""
+        """The resolved inputs of one rack, in the order played, outcomes without their
+        trajectories (invariant 5)."""
 
     @abstractmethod
     async def expire_tables(self, now: float, limit: int) -> list[str]:
@@ -219,3 +221,11 @@ def waiting(game: str) -> str:
 
 def paired(table_id: str) -> str:
     return f"paired:{table_id}"
+
+
+def without_motion(entry: InputEntry) -> InputEntry:
+    """The entry with its outcome's trajectory left out (`rack_inputs`, invariant 5)."""
+    outcome = entry.outcome
+    if outcome is None or outcome.trajectory is None:
+        return entry
+    return entry.model_copy(update={"outcome": outcome.model_copy(update={"trajectory": None})})

@@ -33,6 +33,7 @@ from server.storage import (
     paired,
     parse_quick,
     waiting,
+    without_motion,
 )
 from server.tables import InputEntry, TableRecord
 
@@ -269,18 +270,18 @@ class RedisStorage(Storage):
         if not shot_ids:
             return []
         docs = await self._redis.hmget(f"{P}i:{table_id}", shot_ids)
-        return [InputEntry.model_validate_json(doc) for doc in docs]
+        return [without_motion(InputEntry.model_validate_json(doc)) for doc in docs]
 
     async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
         start, end = await self._redis.hmget(f"{P}rs:{table_id}", [str(rack), str(rack + 1)])
         if start is None:  # nothing logged in this rack, or logged before racks' starts were
-            return [e for e in await self.inputs(table_id) if e.rack == rack]
+            return [without_motion(e) for e in await self.inputs(table_id) if e.rack == rack]
         stop = -1 if end is None else int(end) - 1
         shot_ids = await self._redis.lrange(f"{P}l:{table_id}", int(start), stop)
         if not shot_ids:
             return []
         docs = await self._redis.hmget(f"{P}i:{table_id}", shot_ids)
-        return [InputEntry.model_validate_json(doc) for doc in docs]
+        return [without_motion(InputEntry.model_validate_json(doc)) for doc in docs]
 
     async def expire_tables(self, now: float, limit: int) -> list[str]:
         keys = [f"{P}expiry", f"{P}listed", f"{P}deadlines"]

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import aiosqlite
 
-from server.api_models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
+from server.api_models import BreakEntry, OutcomeMessage, PlayerInfo, QuickStatus, ReplayView
 from server.ratings import Rating
 from server.storage import (
     Accepted,
@@ -47,13 +47,17 @@ from server.tables import KEEP_IDLE, InputEntry, TableRecord
 
 #: Tables whose last stored record is kept in memory (least recently used dropped first).
 CACHED_TABLES = 1024
+#: A table's document leaves out its last outcome, which has a column of its own: the outcome
+#: (its trajectory is most of a record's bytes) changes once per shot, the document twice.
+_DOC = {"last_outcome"}
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS names (key TEXT PRIMARY KEY, player TEXT NOT NULL, until REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS tables (
     id TEXT PRIMARY KEY, version INTEGER NOT NULL, pending TEXT NOT NULL,
     listed INTEGER NOT NULL, created REAL NOT NULL, deadline REAL, doc TEXT NOT NULL,
-    expires REAL);
+    expires REAL,
+    outcome TEXT);
 CREATE INDEX IF NOT EXISTS tables_listed ON tables (listed, created);
 CREATE INDEX IF NOT EXISTS tables_deadline ON tables (deadline);
 CREATE TABLE IF NOT EXISTS inputs (
@@ -89,15 +93,23 @@ def token_key(path: str | Path) -> str:
     return value
 
 
-async def _add_expiry(db: aiosqlite.Connection) -> None:
+async def _add_columns(db: aiosqlite.Connection) -> None:
     """Give a database made before table expiry its `expires` column (invariant 12): its
-    tables expire `KEEP_IDLE` after creation, or as their next change says."""
+    tables expire `KEEP_IDLE` after creation, or as their next change says. And one made
+    before the `outcome` column its last outcomes moved out of the documents into it."""
     async with db.execute("PRAGMA table_info(tables)") as cursor:
         columns = {row[1] for row in await cursor.fetchall()}
     if "expires" not in columns:
         await db.execute("ALTER TABLE tables ADD COLUMN expires REAL")
         await db.execute("UPDATE tables SET expires = created + ?", (KEEP_IDLE,))
     await db.execute("CREATE INDEX IF NOT EXISTS tables_expires ON tables (expires)")
+    if "outcome" not in columns:
+        await db.execute("ALTER TABLE tables ADD COLUMN outcome TEXT")
+        for table_id, doc in await db.execute_fetchall("SELECT id, doc FROM tables"):
+            record = TableRecord.model_validate_json(doc)
+            outcome = record.last_outcome and record.last_outcome.model_dump_json()
+            moved = (record.model_dump_json(exclude=_DOC), outcome, table_id)
+            await db.execute("UPDATE tables SET doc = ?, outcome = ? WHERE id = ?", moved)
 
 
 class SqliteStorage(Storage):
@@ -113,7 +125,7 @@ class SqliteStorage(Storage):
         await db.execute("PRAGMA journal_mode=WAL")
         await db.execute("PRAGMA synchronous=NORMAL")
         await db.executescript(SCHEMA)
-        await _add_expiry(db)
+        await _add_columns(db)
         storage = cls(db)
         async with db.execute("SELECT COALESCE(MAX(queued), 0) + 1 FROM quick") as cursor:
             (start,) = await cursor.fetchone()
@@ -182,16 +194,19 @@ class SqliteStorage(Storage):
 
     # ----- tables -----------------------------------------------------------------------
     async def create_table(self, record: TableRecord) -> None:
+        outcome = record.last_outcome and record.last_outcome.model_dump_json()
         try:
             await self._alone(
-                "INSERT INTO tables VALUES (?, ?, '', ?, ?, ?, ?, ?)",
+                "INSERT INTO tables (id, version, pending, listed, created, deadline, doc, "
+                "expires, outcome) VALUES (?, ?, '', ?, ?, ?, ?, ?, ?)",
                 record.id,
                 record.version,
                 int(record.listed),
                 record.created,
                 record.deadline,
-                record.model_dump_json(),
+                record.model_dump_json(exclude=_DOC),
                 record.expires,
+                outcome,
             )
         except aiosqlite.IntegrityError:
             raise ValueError(f"table {record.id} exists") from None
@@ -200,15 +215,18 @@ class SqliteStorage(Storage):
     async def get_table(self, table_id: str) -> TableRecord | None:
         record = self._tables.get(table_id)
         if record is None:
-            row = await self._one("SELECT doc FROM tables WHERE id = ?", table_id)
+            row = await self._one("SELECT doc, outcome FROM tables WHERE id = ?", table_id)
             if row is None:
                 return None
             record = TableRecord.model_validate_json(row[0])
+            if row[1] is not None:
+                last = OutcomeMessage.model_validate_json(row[1])
+                record = record.model_copy(update={"last_outcome": last})
         self._remember(record)
         return record
 
-    @staticmethod
     async def _write(
+        self,
         db: aiosqlite.Connection,
         record: TableRecord,
         was: tuple[int, str],
@@ -217,21 +235,23 @@ class SqliteStorage(Storage):
     ) -> bool:
         """Store `record` (with `pending`) if the stored table is at version and pending
         `was` (and, given `new_shot`, the table has played no input of that shot id): one
-        statement, so the check and the write are one step."""
-        sql = (
-            "UPDATE tables SET version = ?, pending = ?, listed = ?, deadline = ?, doc = ?, "
-            "expires = ? WHERE id = ? AND version = ? AND pending = ?"
-        )
-        args = [
+        statement, so the check and the write are one step. The last outcome is written only
+        when it is not the one the stored record has."""
+        sets = "version = ?, pending = ?, listed = ?, deadline = ?, doc = ?, expires = ?"
+        args: list[object] = [
             record.version,
             pending,
             int(record.listed),
             record.deadline,
-            record.model_dump_json(),
+            record.model_dump_json(exclude=_DOC),
             record.expires,
-            record.id,
-            *was,
         ]
+        stored = self._tables.get(record.id)
+        if stored is None or stored.last_outcome is not record.last_outcome:
+            sets += ", outcome = ?"
+            args.append(record.last_outcome and record.last_outcome.model_dump_json())
+        sql = f"UPDATE tables SET {sets} WHERE id = ? AND version = ? AND pending = ?"
+        args += [record.id, *was]
         if new_shot is not None:
             sql += " AND NOT EXISTS (SELECT 1 FROM inputs WHERE table_id = ? AND shot_id = ?)"
             args += [record.id, new_shot]
@@ -289,8 +309,9 @@ class SqliteStorage(Storage):
         return [InputEntry.model_validate_json(row[0]) for row in rows]
 
     async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
-        rows = await self._rows(
-            "SELECT doc FROM inputs WHERE table_id = ? AND json_extract(doc, '$.rack') = ? "
+        rows = await self._rows(  # (SQLite's JSON functions copy numbers as written)
+            "SELECT json_replace(doc, '$.outcome.trajectory', NULL) FROM inputs "
+            "WHERE table_id = ? AND json_extract(doc, '$.rack') = ? "
             "AND seq IS NOT NULL ORDER BY seq",
             table_id,
             rack,

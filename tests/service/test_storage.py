@@ -15,7 +15,7 @@ from server.match import rate
 from server.ratings import Rating
 from server.storage import AcceptResult, RateResult, Storage
 from server.storage.sqlite import SCHEMA, SqliteStorage
-from server.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join
+from server.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join, played
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
 
 
@@ -244,6 +244,26 @@ async def test_rack_inputs_are_one_racks_inputs_in_order(storage: Storage) -> No
     assert len(await storage.inputs(record.id)) == 6
 
 
+async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(storage: Storage) -> None:
+    """A rack's record needs its inputs and states; `find_input` keeps the whole outcome."""
+    record = join(a_table(), BOB)
+    await storage.create_table(record)
+    action = refereeing.bot_input(record.state, "picker")
+    entry = InputEntry(
+        shot_id="break-0001", seat=0, input=action, version=record.version, accepted_at=0.0
+    )
+    accepted = record.model_copy(update={"pending": entry})
+    assert (await storage.accept(accepted)).result is AcceptResult.ACCEPTED
+    after, outcome = played(accepted, entry, refereeing.referee(record.state, action))
+    assert outcome.trajectory is not None
+    assert await storage.resolve(after, entry.model_copy(update={"outcome": outcome}))
+    (logged,) = await storage.rack_inputs(record.id, 1)
+    assert logged.outcome is not None and logged.outcome.trajectory is None
+    assert logged.outcome.state == outcome.state and logged.input == action
+    assert (await storage.find_input(record.id, "break-0001")).outcome == outcome
+    assert (await storage.get_table(record.id)).last_outcome == outcome
+
+
 async def test_finished_and_abandoned_tables_expire_with_their_inputs(storage: Storage) -> None:
     playing = join(a_table("1" * 20), BOB)
     finished = join(a_table("2" * 20), BOB)
@@ -287,7 +307,7 @@ async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Pa
     """A SQLite file written before invariant 12 opens, and its tables expire KEEP_IDLE after
     they were created (or as their next change says)."""
     path = tmp_path / "old.sqlite3"
-    old_schema = SCHEMA.replace(",\n    expires REAL", "")
+    old_schema = SCHEMA.replace(",\n    expires REAL", "").replace(",\n    outcome TEXT", "")
     assert old_schema != SCHEMA
     record = a_table()
     with sqlite3.connect(path) as db:
