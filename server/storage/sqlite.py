@@ -232,11 +232,14 @@ class SqliteStorage(Storage):
         was: tuple[int, str],
         pending: str,
         new_shot: str | None = None,
+        played: str | None = None,
     ) -> bool:
         """Store `record` (with `pending`) if the stored table is at version and pending
         `was` (and, given `new_shot`, the table has played no input of that shot id): one
         statement, so the check and the write are one step. The last outcome is written only
-        when it is not the one the stored record has."""
+        when it is not the one the stored record has, taken from `played` (the document of
+        the input it is the outcome of) when given: SQLite copies it, nothing is encoded twice.
+        """
         sets = "version = ?, pending = ?, listed = ?, deadline = ?, doc = ?, expires = ?"
         args: list[object] = [
             record.version,
@@ -247,7 +250,10 @@ class SqliteStorage(Storage):
             record.expires,
         ]
         stored = self._tables.get(record.id)
-        if stored is None or stored.last_outcome is not record.last_outcome:
+        if played is not None:
+            sets += ", outcome = json_extract(?, '$.outcome')"
+            args.append(played)
+        elif stored is None or stored.last_outcome is not record.last_outcome:
             sets += ", outcome = ?"
             args.append(record.last_outcome and record.last_outcome.model_dump_json())
         sql = f"UPDATE tables SET {sets} WHERE id = ? AND version = ? AND pending = ?"
@@ -275,12 +281,15 @@ class SqliteStorage(Storage):
         return Accepted(AcceptResult.CONFLICT if seen is None else AcceptResult.DUPLICATE, seen)
 
     async def resolve(self, record: TableRecord, entry: InputEntry) -> bool:
+        doc = entry.model_dump_json()
+        played = doc if entry.outcome is not None and entry.outcome is record.last_outcome else None
         async with self._transaction() as db:
-            if not await self._write(db, record, (record.version - 1, entry.shot_id), ""):
+            was = (record.version - 1, entry.shot_id)
+            if not await self._write(db, record, was, "", played=played):
                 return False
             await db.execute(  # (a database from before kept the pending input here too)
                 "INSERT OR REPLACE INTO inputs VALUES (?, ?, ?, ?)",
-                (record.id, entry.shot_id, record.version, entry.model_dump_json()),
+                (record.id, entry.shot_id, record.version, doc),
             )
         self._remember(record)
         return True

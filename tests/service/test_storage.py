@@ -244,8 +244,12 @@ async def test_rack_inputs_are_one_racks_inputs_in_order(storage: Storage) -> No
     assert len(await storage.inputs(record.id)) == 6
 
 
-async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(storage: Storage) -> None:
-    """A rack's record needs its inputs and states; `find_input` keeps the whole outcome."""
+async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(
+    open_storage: OpenStorage,
+) -> None:
+    """A rack's record needs its inputs and states; `find_input` and the table's last outcome
+    keep the whole outcome, after a restart too."""
+    storage = await open_storage()
     record = join(a_table(), BOB)
     await storage.create_table(record)
     action = refereeing.bot_input(record.state, "picker")
@@ -262,6 +266,10 @@ async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(storage: Stor
     assert logged.outcome.state == outcome.state and logged.input == action
     assert (await storage.find_input(record.id, "break-0001")).outcome == outcome
     assert (await storage.get_table(record.id)).last_outcome == outcome
+    await storage.close()
+    again = await open_storage()
+    assert await again.get_table(record.id) == after and after.last_outcome == outcome
+    assert (await again.find_input(record.id, "break-0001")).outcome == outcome
 
 
 async def test_finished_and_abandoned_tables_expire_with_their_inputs(storage: Storage) -> None:
