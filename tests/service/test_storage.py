@@ -330,3 +330,37 @@ async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Pa
         assert await storage.expire_tables(record.created + KEEP_IDLE, 10) == [record.id]
     finally:
         await storage.close()
+
+
+async def test_a_database_from_before_the_outcome_column_keeps_its_last_outcomes(
+    tmp_path: Path,
+) -> None:
+    """Tables stored with the last outcome inside their document read back the same."""
+    path = tmp_path / "old.sqlite3"
+    old_schema = SCHEMA.replace(",\n    outcome TEXT", "")
+    assert old_schema != SCHEMA
+    record = join(a_table(), BOB)
+    action = refereeing.bot_input(record.state, "picker")
+    entry = InputEntry(shot_id="break-0001", seat=0, input=action, version=1, accepted_at=0.0)
+    after, _ = played(record, entry, refereeing.referee(record.state, action))
+    with sqlite3.connect(path) as db:
+        db.executescript(old_schema)
+        row = (after.id, after.version, "", 1, after.created, None, after.model_dump_json(), 0.0)
+        db.execute("INSERT INTO tables VALUES (?, ?, ?, ?, ?, ?, ?, ?)", row)
+    db.close()
+    storage = await SqliteStorage.open(path)
+    try:
+        assert await storage.get_table(after.id) == after
+    finally:
+        await storage.close()
+    storage = await SqliteStorage.open(path)  # read from the moved columns, not the cache
+    try:
+        assert await storage.get_table(after.id) == after
+        assert await storage.update(bump(after))  # a write that keeps the last outcome
+    finally:
+        await storage.close()
+    storage = await SqliteStorage.open(path)
+    try:
+        assert (await storage.get_table(after.id)).last_outcome == after.last_outcome
+    finally:
+        await storage.close()
