@@ -16,9 +16,14 @@ this process is the load generator. For each target, on a freshly started server
 
 Between phases the bench waits until the server's CPU time stops growing, so that closing one
 phase's connections does not slow the next; before each measurement one message per channel
-checks that every subscription is live. On Redis targets, the server's Redis connections are
-counted (CLIENT LIST) while 1 channel and while 1,000 channels have subscribers: a replica's
-count must not grow with its channels (one reader per replica).
+checks that every subscription is live. Then the load generator collects its garbage and
+freezes what is left (`gc.freeze`): a full collection over its thousands of client sockets
+stops it for tens of milliseconds, which it would count as the server's latency (the same for
+every target). The servers' collectors run untouched, as in production.
+
+On Redis targets, the server's Redis connections are counted (CLIENT LIST) while 1 channel and
+while 1,000 channels have subscribers: a replica's count must not grow with its channels (one
+reader per replica).
 
 The relay runs with every feature on (token check, payload validation, bounded send queues,
 Redis AOF with fsync on every write) except that the publish rate limit is raised: the load
@@ -36,6 +41,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import gc
 import importlib.util
 import json
 import os
@@ -479,6 +485,8 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
             # One message per channel first: a WebSocket handshake can complete before the
             # server has set the subscription up, and the measurement starts once all are live.
             await load.saturate(channel_of, len(set(subscribers)), fanout)
+            gc.collect()
+            gc.freeze()
             if server.redis_url is not None:
                 result[f"{name}_redis"] = await redis_connections(server.redis_url)
             load.receiver.reset()
@@ -488,6 +496,7 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
                 channel_of, rate / 2, fanout
             )
             await load.close()
+            gc.unfreeze()
             await server.settle()
             print(f"  {target}: {name} done ({rate:,.0f} msg/s)", file=sys.stderr)
     return result

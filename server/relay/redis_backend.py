@@ -45,6 +45,7 @@ from typing import Any
 import redis.asyncio as aioredis
 from redis.asyncio.retry import Retry
 from redis.backoff import NoBackoff
+from redis.maint_notifications import MaintNotificationsConfig
 
 from server.relay.backend import Backend, BackendConfig
 from server.relay.errors import Unavailable
@@ -279,17 +280,20 @@ class RedisBackend(Backend):
     def __init__(self, config: BackendConfig, url: str) -> None:
         super().__init__(config)
         self.replica = uuid.uuid4().hex
-        # One retry: a pooled connection left dead by a Redis restart fails once, then a fresh
-        # one is used. More retries could publish twice when only the answer was lost.
+        # No retry: a command whose answer was lost may have run, and publishes, counts and
+        # deletes must not run twice. (A pooled connection that a Redis restart left closed is
+        # replaced by the pool when it hands it out, before anything is sent on it; that check
+        # is skipped while redis-py's maintenance notifications, a Redis Cloud feature, are on.)
         # Commands wait for a free connection rather than fail when all are busy.
         # (driver_info=None: no CLIENT SETINFO, which costs a package-metadata lookup per
         # connection, and readers connect often.)
         self._redis = aioredis.Redis.from_pool(
             aioredis.BlockingConnectionPool.from_url(
                 url,
-                retry=Retry(NoBackoff(), 1),
+                retry=Retry(NoBackoff(), 0),
                 max_connections=COMMAND_CONNECTIONS,
                 driver_info=None,
+                maint_notifications_config=MaintNotificationsConfig(enabled=False),
             )
         )
         self._reader = ReplicaReader(

@@ -12,18 +12,29 @@ or error. A call whose caller has stopped waiting before it was sent is not sent
 The script is called by its SHA1 (`EVALSHA`); if Redis does not know it (it restarted, or its
 script cache was flushed), it is loaded and the calls refused for that reason are sent again:
 Redis refused them before running anything, so none runs twice.
+
+Nothing else is ever sent twice. A pipeline is written once; if its connection fails before
+every reply has been read, the calls whose replies were read get them, and the others get the
+connection's error: Redis may have run them (their messages stored, the answer lost), so
+resending would store them twice. The caller answers 503 and the publisher decides, as with any
+request whose answer never came. A pooled connection that Redis closed while it sat idle (a
+restart) is not a failure of this kind: the pool sees it closed when it hands it out, before
+anything is written, and connects afresh (`ConnectionPool.ensure_connection`).
 """
 
 from __future__ import annotations
 
 import asyncio
 import hashlib
+import math
 from typing import Any
 
 import hiredis
 import redis.asyncio as aioredis
 from redis.asyncio.connection import Connection
+from redis.exceptions import ConnectionError as RedisConnectionError
 from redis.exceptions import NoScriptError, ResponseError
+from redis.exceptions import TimeoutError as RedisTimeoutError
 
 Call = tuple[list[Any], list[Any], "asyncio.Future[Any]"]
 
@@ -95,8 +106,8 @@ class ScriptBatcher:
         return replies
 
     async def _pipeline(self, calls: list[tuple[list[Any], list[Any]]]) -> list[Any]:
-        """One round trip for `calls` on a connection of the pool, with the pool's retry
-        policy. Packed by hiredis in one piece, not command by command as redis-py's asyncio
+        """One round trip for `calls` on a connection of the pool, written once (see the module
+        docstring). Packed by hiredis in one piece, not command by command as redis-py's asyncio
         pipeline does in Python: on the publish path that packing was the larger cost."""
         packed = b"".join(
             hiredis.pack_command(("EVALSHA", self._sha, len(keys), *keys, *args))
@@ -104,23 +115,27 @@ class ScriptBatcher:
         )
         pool = self._redis.connection_pool
         connection = await pool.get_connection()
+        replies: list[Any] = []
         try:
-            return await connection.retry.call_with_retry(
-                lambda: _round_trip(connection, packed, len(calls)),
-                lambda _: connection.disconnect(),
-            )
+            await _round_trip(connection, packed, len(calls), replies)
+        except (RedisConnectionError, RedisTimeoutError, OSError) as error:
+            await connection.disconnect()
+            replies += [error] * (len(calls) - len(replies))
         finally:
             await pool.release(connection)
+        return replies
 
 
-async def _round_trip(connection: Connection, packed: bytes, count: int) -> list[Any]:
-    """Send packed commands, then read their `count` replies (an error reply is returned as
-    its exception, in its place)."""
-    await connection.send_packed_command(packed, check_health=False)
-    replies: list[Any] = []
-    for _ in range(count):
-        try:
-            replies.append(await connection.read_response())
-        except ResponseError as error:
-            replies.append(error)
-    return replies
+async def _round_trip(
+    connection: Connection, packed: bytes, count: int, replies: list[Any]
+) -> None:
+    """Send packed commands, then append their `count` replies to `replies` as they come (an
+    error reply as its exception, in its place). One deadline for the whole round trip, the
+    connection's socket timeout, rather than one timer per reply."""
+    async with asyncio.timeout(connection.socket_timeout):
+        await connection.send_packed_command(packed, check_health=False)
+        for _ in range(count):
+            try:
+                replies.append(await connection.read_response(timeout=math.inf))
+            except ResponseError as error:
+                replies.append(error)

@@ -15,6 +15,7 @@ import redis.asyncio as aioredis
 
 from server.relay import redis_backend, redis_reader
 from server.relay.backend import BackendConfig, Start
+from server.relay.errors import Unavailable
 from server.relay.ids import parse_message_id
 from server.relay.messages import ChannelClosed, Event, Gap, StoredMessage
 from server.relay.redis_backend import RedisBackend
@@ -377,3 +378,68 @@ async def test_publish_survives_a_flushed_script_cache(
     second = await asyncio.gather(*(backend.publish("game", b"2", "text/plain") for _ in range(3)))
     assert [result.info.messages for result in second] == [2, 3, 4]
     assert parse_message_id(second[0].message.id) > parse_message_id(first.message.id)
+
+
+class ReplyCutter:
+    """A TCP relay to a real Redis that, once `armed`, lets the next script call through and
+    closes its connection as soon as Redis answers: the call ran, its answer never arrives."""
+
+    def __init__(self, redis_port: int) -> None:
+        self.armed = False
+        self._redis_port = redis_port
+        self._server: asyncio.Server | None = None
+
+    @property
+    def url(self) -> str:
+        assert self._server is not None
+        return f"redis://127.0.0.1:{self._server.sockets[0].getsockname()[1]}/0"
+
+    async def __aenter__(self) -> ReplyCutter:
+        self._server = await asyncio.start_server(self._relay, "127.0.0.1", 0)
+        return self
+
+    async def __aexit__(self, *exc_info: object) -> None:
+        assert self._server is not None
+        self._server.close()
+
+    async def _relay(self, client_in: asyncio.StreamReader, client_out: asyncio.StreamWriter):
+        redis_in, redis_out = await asyncio.open_connection("127.0.0.1", self._redis_port)
+        doomed = False
+
+        async def requests() -> None:
+            nonlocal doomed
+            while data := await client_in.read(65536):
+                if self.armed and b"EVALSHA" in data:
+                    self.armed, doomed = False, True
+                redis_out.write(data)
+                await redis_out.drain()
+
+        async def replies() -> None:
+            while (data := await redis_in.read(65536)) and not doomed:
+                client_out.write(data)
+                await client_out.drain()
+            client_out.close()
+            redis_out.close()
+
+        await asyncio.gather(requests(), replies(), return_exceptions=True)
+
+
+async def test_a_publish_whose_answer_was_lost_is_not_sent_again(redis_server: RedisServer):
+    """The publisher is told the store failed (503), and the message, which Redis did store, is
+    stored once: the pipeline is not sent again on a fresh connection."""
+    async with ReplyCutter(redis_server.port) as cutter:
+        backend = RedisBackend(BackendConfig(), cutter.url)
+        try:
+            first = await backend.publish("game", b"1", "text/plain")
+            cutter.armed = True
+            with pytest.raises(Unavailable):
+                await backend.publish("game", b"2", "text/plain")
+            third = await backend.publish("game", b"3", "text/plain")  # a fresh connection
+        finally:
+            await backend.close()
+    admin = aioredis.from_url(redis_server.url)
+    entries = await admin.xrange(redis_reader.stream_key("game"))
+    await admin.aclose()
+    assert [fields[b"d"] for _, fields in entries] == [b"1", b"2", b"3"]
+    assert third.info.messages == 3
+    assert parse_message_id(third.message.id) > parse_message_id(first.message.id)
