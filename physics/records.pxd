@@ -4,7 +4,7 @@ cimport physics.cobject as object
 
 cdef frozenset _EVENT_FIELDS, _SEGMENT_FIELDS
 
-cdef _trusted(cls, dict values, set given)
+cpdef trusted(cls, dict values, set given)
 cpdef event(t, str kind, tuple balls, cushion, pocket)
 cpdef segment(t, str state, r, v, a, w, dw)
 @cython.locals(segs=list, s=tuple, f=tuple, e=tuple)
