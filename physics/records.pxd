@@ -6,6 +6,6 @@ cdef frozenset _EVENT_FIELDS, _SEGMENT_FIELDS
 
 cpdef trusted(cls, dict values, set given)
 cpdef event(t, str kind, tuple balls, cushion, pocket)
-cpdef segment(t, str state, r, v, a, w, dw)
+cpdef segment(tuple s)
 @cython.locals(segs=list, s=tuple, f=tuple, e=tuple)
 cpdef shot(list events, dict trajectories, dict final, duration, models)

@@ -19,7 +19,9 @@ from physics.trajectory import BallFinal, Event, ModelsUsed, Segment, Shot
 
 #: What the engine records of an event: (t, type, balls, cushion, pocket), None where absent.
 EventRecord = tuple[float, str, tuple[str, ...], str | None, str | None]
-#: What the engine records of a segment: Segment's fields in their order.
+#: What the engine records of a segment: Segment's fields in their order, the vectors written
+#: out (t, state, x, y, vx, vy, ax, ay, wx, wy, wz, dwx, dwy, dwz). One flat tuple, not six
+#: nested ones, is what makes a batch's records cheap to pickle: a fifth of the cost.
 SegmentRecord = tuple[Any, ...]
 #: What the engine records of a ball at the end: (pos, state, pocket).
 FinalRecord = tuple[Any, str, str | None]
@@ -74,9 +76,17 @@ def event(t: float, kind: str, balls: tuple[str, ...], cushion: Any, pocket: Any
     return trusted(Event, values, given)
 
 
-def segment(t: float, state: str, r: Any, v: Any, a: Any, w: Any, dw: Any) -> Segment:
+def segment(s: SegmentRecord) -> Segment:
     """A Segment from its record."""
-    values = {"t": t, "state": state, "r": r, "v": v, "a": a, "w": w, "dw": dw}
+    values = {
+        "t": s[0],
+        "state": s[1],
+        "r": (s[2], s[3]),
+        "v": (s[4], s[5]),
+        "a": (s[6], s[7]),
+        "w": (s[8], s[9], s[10]),
+        "dw": (s[11], s[12], s[13]),
+    }
     return trusted(Segment, values, set(_SEGMENT_FIELDS))
 
 
@@ -90,7 +100,7 @@ def shot(
     """The whole Shot from the records (also what unpickles a Shot, see Shot.__reduce__)."""
     built: dict[str, Any] = {}
     for name, segs in trajectories.items():
-        built[name] = [segment(s[0], s[1], s[2], s[3], s[4], s[5], s[6]) for s in segs]
+        built[name] = [segment(s) for s in segs]
     finals: dict[str, Any] = {}
     for name, f in final.items():
         finals[name] = trusted(
