@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import atexit
 import multiprocessing
-import operator
 import os
 import pickle
 from collections.abc import Sequence
@@ -155,27 +154,33 @@ def _simulate_chunk(packed: bytes, trajectories: bool) -> bytes:
 def _pack(scenes: Sequence[Scene | dict[str, Any]]) -> bytes:
     """Scenes as one bytes object: each distinct table once, then each scene's own numbers.
 
-    A table is the triple (TableSpec, Params, Models), which pickles as its numbers; a scene
-    is the index of its table, its ball names, their positions as one flat tuple, its strike,
-    the strike's motion and its initial motions as tuples (None where absent). A scene
-    document (a dict) goes as it is, to be parsed and checked in the worker.
+    A table is the triple (TableSpec, Params, Models), which pickles as its numbers (found
+    by identity first: the scenes of one preset share their objects); a scene is the index of
+    its table, its ball names and positions, and the field values of its strike, the
+    strike's motion and its initial motions (None where absent). A scene document (a dict)
+    goes as it is, to be parsed and checked in the worker.
     """
+    by_id: dict[tuple[int, int, int], int] = {}
     tables: dict[tuple[Any, ...], int] = {}
     items: list[tuple[Any, ...] | dict[str, Any]] = []
     for s in scenes:
         if not isinstance(s, Scene):
             items.append(s)
             continue
-        table = tables.setdefault((s.geometry.spec, s.params, s.models), len(tables))
+        ids = (id(s.geometry), id(s.params), id(s.models))  # the scenes keep them alive
+        table = by_id.get(ids)
+        if table is None:
+            key = (s.geometry.spec, s.params, s.models)
+            table = by_id[ids] = tables.setdefault(key, len(tables))
         st, sm = s.strike, s.strike_motion
         items.append(
             (
                 table,
                 tuple(s.positions),
-                tuple([c for xy in s.positions.values() for c in xy]),
-                None if st is None else _strike_values(st),
-                None if sm is None else (sm.v, sm.w),
-                tuple([(name, m.v, m.w) for name, m in s.initial.items()]),
+                tuple(s.positions.values()),
+                None if st is None else st.__dict__,
+                None if sm is None else sm.__dict__,
+                tuple([(name, m.__dict__) for name, m in s.initial.items()]),
             )
         )
     return pickle.dumps((list(tables), items), pickle.HIGHEST_PROTOCOL)
@@ -191,31 +196,21 @@ def _unpack(packed: bytes) -> list[Scene | dict[str, Any]]:
         if isinstance(item, dict):
             scenes.append(item)
             continue
-        table, names, xy, st, sm, initial = item
+        table, names, positions, st, sm, initial = item
         geometry, params, models = tables[table]
-        strike = strike_motion = None
-        if st is not None:
-            values = dict(zip(_STRIKE_FIELDS, st, strict=True))
-            strike = records.trusted(Strike, values, set(_STRIKE_FIELDS))
-        if sm is not None:
-            strike_motion = _motion(sm[0], sm[1])
         scenes.append(
             Scene(
                 geometry,
                 params,
                 models,
-                {name: (xy[2 * k], xy[2 * k + 1]) for k, name in enumerate(names)},
-                {name: _motion(v, w) for name, v, w in initial},
-                strike,
-                strike_motion,
+                dict(zip(names, positions, strict=True)),
+                {name: records.trusted(Motion, m, set(_MOTION_FIELDS)) for name, m in initial},
+                None if st is None else records.trusted(Strike, st, set(_STRIKE_FIELDS)),
+                None if sm is None else records.trusted(Motion, sm, set(_MOTION_FIELDS)),
             )
         )
     return scenes
 
 
-_STRIKE_FIELDS = tuple(Strike.model_fields)
-_strike_values = operator.attrgetter(*_STRIKE_FIELDS)
-
-
-def _motion(v: tuple[float, float], w: tuple[float, float, float]) -> Motion:
-    return records.trusted(Motion, {"v": v, "w": w}, {"v", "w"})
+_STRIKE_FIELDS = frozenset(Strike.model_fields)
+_MOTION_FIELDS = frozenset(Motion.model_fields)
