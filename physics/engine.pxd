@@ -39,7 +39,6 @@ cdef class Simulation:
     cdef tuple _records(self)
     @cython.locals(state=str)
     cdef _set_motion(self, _Ball b, tuple v, tuple w)
-    @cython.locals(w=tuple, dw=tuple)
     cdef _record(self, _Ball b)
     cdef _emit(self, str kind, tuple balls, object cushion=*, object pocket=*)
     @cython.locals(bi=_Ball, bj=_Ball, vj=Py_ssize_t)

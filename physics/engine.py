@@ -187,10 +187,7 @@ class Simulation:
         self._record(b)
 
     def _record(self, b: _Ball) -> None:
-        w, dw = b.w, b.dw
-        b.segments.append(
-            (b.t0, b.state, b.x, b.y, b.vx, b.vy, b.ax, b.ay, w[0], w[1], w[2], dw[0], dw[1], dw[2])
-        )
+        b.segments.append((b.t0, b.state, b.x, b.y, b.vx, b.vy, b.ax, b.ay, b.w, b.dw))
 
     def _emit(
         self,

@@ -28,8 +28,8 @@ def test_event(names):
 
 
 FIELDS = (0.5, "sliding", (0.1, 0.2), (1.0, -1.0), (0.3, 0.4), (1.0, 2.0, 3.0), (0.0, 0.0, -1.0))
-#: The same segment as the engine records it: the vectors written out.
-SEGMENT = (0.5, "sliding", 0.1, 0.2, 1.0, -1.0, 0.3, 0.4, 1.0, 2.0, 3.0, 0.0, 0.0, -1.0)
+#: The same segment as the engine records it: r, v and a written out.
+SEGMENT = (0.5, "sliding", 0.1, 0.2, 1.0, -1.0, 0.3, 0.4, (1.0, 2.0, 3.0), (0.0, 0.0, -1.0))
 
 
 segment_fields = dict(zip(Segment.model_fields, FIELDS, strict=True))
