@@ -53,6 +53,9 @@ class PausedCollector:
 
 _EVENT_FIELDS = frozenset({"t", "type", "balls"})
 _SEGMENT_FIELDS = frozenset(Segment.model_fields)
+#: A Segment's fields, in their order, as the dict each Segment's own starts as a copy of: the
+#: dict literal of the kernel grows a new dict key by key, resizing it at the sixth.
+_SEGMENT_DICT = dict.fromkeys(Segment.model_fields)
 
 
 def trusted(cls: type, values: dict[str, Any], given: set[str]) -> Any:
@@ -79,15 +82,14 @@ def event(t: float, kind: str, balls: tuple[str, ...], cushion: Any, pocket: Any
 
 def segment(s: SegmentRecord) -> Segment:
     """A Segment from its record."""
-    values = {
-        "t": s[0],
-        "state": s[1],
-        "r": (s[2], s[3]),
-        "v": (s[4], s[5]),
-        "a": (s[6], s[7]),
-        "w": s[8],
-        "dw": s[9],
-    }
+    values = _SEGMENT_DICT.copy()  # a copy of the keys, then the values: no dict grown
+    values["t"] = s[0]
+    values["state"] = s[1]
+    values["r"] = (s[2], s[3])
+    values["v"] = (s[4], s[5])
+    values["a"] = (s[6], s[7])
+    values["w"] = s[8]
+    values["dw"] = s[9]
     return trusted(Segment, values, set(_SEGMENT_FIELDS))
 
 
