@@ -6,6 +6,10 @@ cimport physics.pymath as math
 cimport physics.roots as roots
 
 
+cdef dict _TABLES
+cdef Py_ssize_t _TABLES_KEPT
+
+cdef tuple _unpacked(object g, double R)
 cdef object _first_contact(tuple c, double gap, double contact, double horizon)
 cdef object _approach(list v, tuple contact)
 cdef object _coupling(tuple c, tuple e, list inv)

@@ -13,15 +13,16 @@ before any polynomial is formed, and a carom table never looks for pockets (it h
 
 from __future__ import annotations
 
-import heapq
 import math
 from collections.abc import Callable
+from heapq import heappop, heappush
 
 from physics import motion, records, roots
 from physics.ball_ball import BALL_BALL_MODELS
 from physics.cushion import CUSHION_MODELS
 from physics.motion import POCKETED, ROLLING, SLIDING, SPINNING, STATIONARY
 from physics.scene import CONTACT_TOLERANCE, Scene
+from physics.tables import Geometry
 from physics.trajectory import ModelsUsed, Shot
 
 #: A contact within this gap (m) is a touching contact, decided at the present.
@@ -139,15 +140,7 @@ class Simulation:
         self.geometry = g = scene.geometry
         R = scene.params.R
         self.diameter = 2.0 * R  # where two balls' centres meet
-        #: The table as the contact search reads it, unpacked once per shot: each cushion
-        #: segment with its start, normal and direction; each jaw (its circle grown by R, which
-        #: is where a ball's centre meets it) and pocket with its centre and contact radius.
-        self.rails = [
-            (s, s.p1[0], s.p1[1], s.normal[0], s.normal[1], s.p2[0] - s.p1[0], s.p2[1] - s.p1[1])
-            for s in g.segments
-        ]
-        self.circles = [("jaw", c, c.center[0], c.center[1], c.radius + R) for c in g.jaws]
-        self.circles += [("pocket", c, c.center[0], c.center[1], c.radius + 0.0) for c in g.pockets]
+        self.rails, self.circles = _unpacked(g, R)
         self.balls = [_Ball(name, x, y) for name, (x, y) in scene.positions.items()]
         self.index = {b.name: k for k, b in enumerate(self.balls)}
         self.heap: list[tuple] = []
@@ -187,7 +180,7 @@ class Simulation:
         self._record(b)
 
     def _record(self, b: _Ball) -> None:
-        b.segments.append((b.t0, b.state, (b.x, b.y), (b.vx, b.vy), (b.ax, b.ay), b.w, b.dw))
+        b.segments.append((b.t0, b.state, b.x, b.y, b.vx, b.vy, b.ax, b.ay, b.w, b.dw))
 
     def _emit(
         self,
@@ -206,7 +199,7 @@ class Simulation:
         if j >= 0:
             bj = self.balls[j]
             vj = bj.version
-        heapq.heappush(self.heap, (t, self.seq, kind, i, j, bi.version, vj, data))
+        heappush(self.heap, (t, self.seq, kind, i, j, bi.version, vj, data))
         self.seq += 1
 
     def _predict(self, changed: tuple[int, ...]) -> None:
@@ -731,7 +724,9 @@ class Simulation:
         """Simulate the shot to its end, every ball at rest or pocketed (the cyclic garbage
         collector paused meanwhile, see records.PausedCollector)."""
         with records.PausedCollector():
-            return records.shot(*self.run_records())
+            self._start()
+            self._loop()
+            return records.shot(*self._records())
 
     def run_records(self) -> records.ShotRecord:
         """As `run`, the Shot as its records (what a batch's workers send back)."""
@@ -744,7 +739,7 @@ class Simulation:
         heap, balls = self.heap, self.balls
         count = 0
         while heap:
-            t, _, kind, i, j, vi, vj, data = heapq.heappop(heap)
+            t, _, kind, i, j, vi, vj, data = heappop(heap)
             b = balls[i]
             if b.version != vi or (j >= 0 and balls[j].version != vj):
                 continue
@@ -787,6 +782,36 @@ class Simulation:
             cushion_height=self.geometry.spec.cushion_height,
         )
         return self.events, trajectories, final, end, models
+
+
+#: The tables unpacked so far (see _unpacked), by the geometry's identity and the ball radius.
+_TABLES: dict[tuple[int, float], tuple[Geometry, list, list]] = {}
+#: How many _TABLES holds at most: a process plays on a few tables (presets, a few custom).
+_TABLES_KEPT = 64
+
+
+def _unpacked(g: Geometry, R: float) -> tuple[list, list]:
+    """The table as the contact search reads it (and never changes): each cushion segment with
+    its start, normal and direction; each jaw (its circle grown by R, which is where a ball's
+    centre meets it) and pocket with its centre and contact radius.
+
+    Unpacked once per table and ball radius rather than once per shot, where it cost a short
+    shot 6% of its time. A table's Geometry is one object per process for the same
+    numbers (physics.tables), held by the entry so that its identity is not reused.
+    """
+    key = (id(g), R)
+    entry = _TABLES.get(key)
+    if entry is None or entry[0] is not g:
+        rails = [
+            (s, s.p1[0], s.p1[1], s.normal[0], s.normal[1], s.p2[0] - s.p1[0], s.p2[1] - s.p1[1])
+            for s in g.segments
+        ]
+        circles = [("jaw", c, c.center[0], c.center[1], c.radius + R) for c in g.jaws]
+        circles += [("pocket", c, c.center[0], c.center[1], c.radius + 0.0) for c in g.pockets]
+        if len(_TABLES) >= _TABLES_KEPT:
+            _TABLES.clear()
+        entry = _TABLES[key] = (g, rails, circles)
+    return entry[1], entry[2]
 
 
 def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):

@@ -32,7 +32,8 @@ EPS_SPIN = 1e-9
 
 def spin_decel(p: Params) -> float:
     """|dw_z/dt| (rad/s^2) from the spin friction u_sp (docs/physics.md, correction 3)."""
-    return 2.5 * p.u_sp * p.g / p.R
+    u_sp, g, R = p.u_sp, p.g, p.R  # (typed locals keep the kernel's arithmetic in C)
+    return 2.5 * u_sp * g / R
 
 
 def slip(v: tuple[float, float], w: tuple[float, float, float], R: float) -> tuple[float, float]:
@@ -43,11 +44,14 @@ def slip(v: tuple[float, float], w: tuple[float, float, float], R: float) -> tup
 def classify(v: tuple[float, float], w: tuple[float, float, float], p: Params) -> str:
     """The state a ball with this v and w is in."""
     ux, uy = slip(v, w, p.R)
-    if math.hypot(ux, uy) > EPS_SLIP:
+    eps = EPS_SLIP  # (typed locals keep the kernel's comparisons in C)
+    if math.hypot(ux, uy) > eps:
         return SLIDING
-    if math.hypot(v[0], v[1]) > EPS_SPEED:
+    eps = EPS_SPEED
+    if math.hypot(v[0], v[1]) > eps:
         return ROLLING
-    if abs(w[2]) > EPS_SPIN:
+    wz, eps = w[2], EPS_SPIN
+    if abs(wz) > eps:
         return SPINNING
     return STATIONARY
 
@@ -61,18 +65,23 @@ def accelerations(
     state: str, v: tuple[float, float], w: tuple[float, float, float], p: Params
 ) -> tuple[tuple[float, float], tuple[float, float, float]]:
     """(a, dw/dt) of a ball in `state`; constant until its next event."""
-    wz_rate = -math.copysign(spin_decel(p), w[2]) if abs(w[2]) > EPS_SPIN else 0.0
+    wz, eps = w[2], EPS_SPIN  # (typed locals keep the kernel's arithmetic in C)
+    wz_rate = -math.copysign(spin_decel(p), wz) if abs(wz) > eps else 0.0
+    R, g = p.R, p.g
     if state == SLIDING:
-        ux, uy = slip(v, w, p.R)
+        ux, uy = slip(v, w, R)
         s = math.hypot(ux, uy)
-        f = p.u_s * p.g / s
-        k = 2.5 * f / p.R
+        u_s = p.u_s
+        f = u_s * g / s
+        k = 2.5 * f / R
         return (-f * ux, -f * uy), (-k * uy, k * ux, wz_rate)
     if state == ROLLING:
-        s = math.hypot(v[0], v[1])
-        f = p.u_r * p.g / s
-        ax, ay = -f * v[0], -f * v[1]
-        return (ax, ay), (-ay / p.R, ax / p.R, wz_rate)
+        vx, vy = v
+        s = math.hypot(vx, vy)
+        u_r = p.u_r
+        f = u_r * g / s
+        ax, ay = -f * vx, -f * vy
+        return (ax, ay), (-ay / R, ax / R, wz_rate)
     if state == SPINNING:
         return (0.0, 0.0), (0.0, 0.0, wz_rate)
     return (0.0, 0.0), (0.0, 0.0, 0.0)
@@ -84,14 +93,18 @@ def transition_time(
     """Time from now until the state changes (inf for a ball at rest)."""
     if state == SLIDING:
         ux, uy = slip(v, w, p.R)
-        return 2.0 * math.hypot(ux, uy) / (7.0 * p.u_s * p.g)
+        u_s, g = p.u_s, p.g  # (typed locals keep the kernel's arithmetic in C)
+        return 2.0 * math.hypot(ux, uy) / (7.0 * u_s * g)
     if state == ROLLING:
-        return math.hypot(v[0], v[1]) / (p.u_r * p.g)
+        u_r, g = p.u_r, p.g
+        return math.hypot(v[0], v[1]) / (u_r * g)
     if state == SPINNING:
-        return abs(w[2]) / spin_decel(p)
+        wz = w[2]
+        return abs(wz) / spin_decel(p)
     return math.inf
 
 
 def spin_stop_time(w: tuple[float, float, float], p: Params) -> float:
     """Time from now until the spin about the vertical reaches zero."""
-    return abs(w[2]) / spin_decel(p) if abs(w[2]) > EPS_SPIN else math.inf
+    wz, eps = w[2], EPS_SPIN  # (typed locals keep the kernel's arithmetic in C)
+    return abs(wz) / spin_decel(p) if abs(wz) > eps else math.inf

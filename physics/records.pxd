@@ -3,9 +3,11 @@ cimport cython
 cimport physics.cobject as object
 
 cdef frozenset _EVENT_FIELDS, _SEGMENT_FIELDS
+cdef dict _SEGMENT_DICT
 
-cdef _trusted(cls, dict values, set given)
+cpdef trusted(cls, dict values, set given)
 cpdef event(t, str kind, tuple balls, cushion, pocket)
-cpdef segment(t, str state, r, v, a, w, dw)
+@cython.locals(values=dict)
+cpdef segment(tuple s)
 @cython.locals(segs=list, s=tuple, f=tuple, e=tuple)
 cpdef shot(list events, dict trajectories, dict final, duration, models)

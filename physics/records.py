@@ -5,7 +5,7 @@ of the Shot (physics.trajectory) once, at the end; a batch's shots come back fro
 processes as the same tuples (Shot.__reduce__) and are built again here. A full break is a few
 hundred models, and pydantic's general `model_construct` (aliases, defaults, private
 attributes) costs several times what these models need, which is only their fields' values
-and the names of those given: `_trusted` sets exactly that (tests/physics_kernel/test_records.py
+and the names of those given: `trusted` sets exactly that (tests/physics_kernel/test_records.py
 checks that the two agree). In the compiled kernel `object.__new__` and `object.__setattr__`
 are the C functions they call, without the Python calls (physics/cobject.pxd).
 """
@@ -19,7 +19,10 @@ from physics.trajectory import BallFinal, Event, ModelsUsed, Segment, Shot
 
 #: What the engine records of an event: (t, type, balls, cushion, pocket), None where absent.
 EventRecord = tuple[float, str, tuple[str, ...], str | None, str | None]
-#: What the engine records of a segment: Segment's fields in their order.
+#: What the engine records of a segment: Segment's fields in their order, the position,
+#: velocity and acceleration written out (t, state, x, y, vx, vy, ax, ay, w, dw; w and dw are
+#: the ball's own tuples, not copied). Three tuples where there were six make a batch's
+#: records pickle in two thirds of the time; the models are built from the same numbers.
 SegmentRecord = tuple[Any, ...]
 #: What the engine records of a ball at the end: (pos, state, pocket).
 FinalRecord = tuple[Any, str, str | None]
@@ -50,9 +53,12 @@ class PausedCollector:
 
 _EVENT_FIELDS = frozenset({"t", "type", "balls"})
 _SEGMENT_FIELDS = frozenset(Segment.model_fields)
+#: A Segment's fields, in their order, as the dict each Segment's own starts as a copy of: the
+#: dict literal of the kernel grows a new dict key by key, resizing it at the sixth.
+_SEGMENT_DICT = dict.fromkeys(Segment.model_fields)
 
 
-def _trusted(cls: type, values: dict[str, Any], given: set[str]) -> Any:
+def trusted(cls: type, values: dict[str, Any], given: set[str]) -> Any:
     """What `cls.model_construct(**given values)` makes, from `values` holding every field and
     `given`, the names of those passed (a set of its own, as model_construct's is)."""
     m = object.__new__(cls)
@@ -71,13 +77,20 @@ def event(t: float, kind: str, balls: tuple[str, ...], cushion: Any, pocket: Any
     if pocket is not None:
         given.add("pocket")
     values = {"t": t, "type": kind, "balls": balls, "cushion": cushion, "pocket": pocket}
-    return _trusted(Event, values, given)
+    return trusted(Event, values, given)
 
 
-def segment(t: float, state: str, r: Any, v: Any, a: Any, w: Any, dw: Any) -> Segment:
+def segment(s: SegmentRecord) -> Segment:
     """A Segment from its record."""
-    values = {"t": t, "state": state, "r": r, "v": v, "a": a, "w": w, "dw": dw}
-    return _trusted(Segment, values, set(_SEGMENT_FIELDS))
+    values = _SEGMENT_DICT.copy()  # a copy of the keys, then the values: no dict grown
+    values["t"] = s[0]
+    values["state"] = s[1]
+    values["r"] = (s[2], s[3])
+    values["v"] = (s[4], s[5])
+    values["a"] = (s[6], s[7])
+    values["w"] = s[8]
+    values["dw"] = s[9]
+    return trusted(Segment, values, set(_SEGMENT_FIELDS))
 
 
 def shot(
@@ -90,10 +103,10 @@ def shot(
     """The whole Shot from the records (also what unpickles a Shot, see Shot.__reduce__)."""
     built: dict[str, Any] = {}
     for name, segs in trajectories.items():
-        built[name] = [segment(s[0], s[1], s[2], s[3], s[4], s[5], s[6]) for s in segs]
+        built[name] = [segment(s) for s in segs]
     finals: dict[str, Any] = {}
     for name, f in final.items():
-        finals[name] = _trusted(
+        finals[name] = trusted(
             BallFinal, {"pos": f[0], "state": f[1], "pocket": f[2]}, {"pos", "state", "pocket"}
         )
     values = {
@@ -103,4 +116,4 @@ def shot(
         "duration": duration,
         "models": models,
     }
-    return _trusted(Shot, values, {"events", "trajectories", "final", "duration", "models"})
+    return trusted(Shot, values, {"events", "trajectories", "final", "duration", "models"})

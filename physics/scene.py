@@ -277,7 +277,9 @@ def parse_scene(data: dict[str, Any]) -> Scene:
     except RecursionError:
         raise SceneError("the scene is nested too deeply") from None
     spec, params = _table(raw.table)
-    params = replace(params, **_set(raw.params))
+    overrides = _set(raw.params)
+    if overrides:  # else the preset's own: a batch's scenes then share it (physics.batch)
+        params = replace(params, **overrides)
     try:
         check_table(spec, params.R)
     except ValueError as exc:

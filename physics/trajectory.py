@@ -110,7 +110,7 @@ class Shot(BaseModel):
 
         events = [(e.t, e.type, e.balls, e.cushion, e.pocket) for e in self.events]
         trajectories = {
-            name: [(s.t, s.state, s.r, s.v, s.a, s.w, s.dw) for s in segs]
+            name: [(s.t, s.state, *s.r, *s.v, *s.a, s.w, s.dw) for s in segs]
             for name, segs in self.trajectories.items()
         }
         final = {name: (f.pos, f.state, f.pocket) for name, f in self.final.items()}

@@ -4,8 +4,9 @@ import pickle
 
 import pytest
 
-from physics import SceneError, parse_scene, simulate, simulate_many
-from physics.examples import BREAKS
+from physics import SceneError, batch, parse_scene, simulate, simulate_many
+from physics.batch import CHUNK
+from physics.examples import BREAKS, single_shot
 
 
 def breaks(n):
@@ -62,3 +63,32 @@ def test_a_scene_pickles_to_an_equal_scene():
     scene = parse_scene(breaks(1)[0])
     back = pickle.loads(pickle.dumps(scene))
     assert back == scene and back.geometry is scene.geometry  # built once per process
+
+
+def test_without_trajectories_the_events_and_finals_are_the_same():
+    scenes = breaks(5)
+    many = simulate_many(scenes, workers=2, trajectories=False)
+    alone = simulate_many(scenes, workers=1, trajectories=False)
+    for a, b, scene in zip(many, alone, scenes, strict=True):
+        full = simulate(scene)
+        assert a.trajectories == {} and b.trajectories == {}
+        assert a == b == full.model_copy(update={"trajectories": {}})
+
+
+def test_many_chunks_and_scene_documents_mixed_in():
+    """More scenes than one chunk holds, parsed ones and documents alternating (and tables
+    and models that differ): each comes back as alone, in order."""
+    documents = [
+        single_shot(0.5 + 0.02 * k, 2.5 * k) | ({"models": {"cushion": "han"}} if k % 3 else {})
+        for k in range(2 * CHUNK + 5)
+    ]
+    documents[7] = BREAKS["snooker_break_off"](speed=3.0)
+    scenes = [parse_scene(d) if k % 2 else d for k, d in enumerate(documents)]
+    many = simulate_many(scenes, workers=2)
+    assert [s.to_msgpack() for s in many] == [simulate(d).to_msgpack() for d in documents]
+
+
+def test_packed_scenes_unpack_equal():
+    scenes = [parse_scene(s) for s in breaks(4)]
+    scenes.append(parse_scene(single_shot() | {"initial": {"1": {"v": [0.5, 0.1]}}}))
+    assert batch._unpack(batch._pack(scenes)) == scenes
