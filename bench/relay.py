@@ -19,7 +19,8 @@ phase's connections does not slow the next; before each measurement one message 
 checks that every subscription is live. Then the load generator collects its garbage and
 freezes what is left (`gc.freeze`): a full collection over its thousands of client sockets
 stops it for tens of milliseconds, which it would count as the server's latency (the same for
-every target). The servers' collectors run untouched, as in production.
+every target). The relay servers' collectors follow `server.collector` (their started heap
+frozen) as `billiards serve`'s do; the bare forwarder's runs untouched.
 
 On Redis targets, the server's Redis connections are counted (CLIENT LIST) while 1 channel and
 while 1,000 channels have subscribers: a replica's count must not grow with its channels (one
@@ -151,9 +152,12 @@ def relay_app(redis_url: str | None) -> web.Application:
 
 def serve(kind: str, port: int, redis_url: str | None, use_uvloop: bool) -> None:
     """Entry point of a server process (`--serve`)."""
+    from server import collector
     from server.serve import new_event_loop
 
     app = bare_app() if kind == "bare" else relay_app(redis_url)
+    if kind == "relay":
+        collector.install(app)  # as `billiards serve` does
     loop = new_event_loop(use_uvloop)
     web.run_app(app, host=HOST, port=port, print=None, access_log=None, loop=loop)
 

@@ -8,6 +8,8 @@ each other's tokens, so they share the key through the environment variable.
 `--uvloop` runs the server on uvloop's event loop (libuv) instead of asyncio's own: the same
 code, cheaper socket writes and callbacks (see the relay benchmark). uvloop is not a dependency:
 `pip install uvloop` first; asking for it without it installed is an error, not a fallback.
+
+The process's garbage collector follows `server.collector` (its docstring says why).
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ def new_event_loop(use_uvloop: bool) -> asyncio.AbstractEventLoop:
 def _serve(args: argparse.Namespace) -> int:
     from aiohttp import web
 
+    from server import collector
     from server.app import AppSettings, create_app, relay_settings
     from server.storage.sqlite import token_key
 
@@ -43,6 +46,7 @@ def _serve(args: argparse.Namespace) -> int:
         relay=relay, redis_url=args.redis, database=args.db, workers=args.workers, **grace
     )
     app = create_app(settings)
+    collector.install(app)
     web.run_app(app, host=args.host, port=args.port, loop=new_event_loop(args.uvloop))
     return 0
 

@@ -6,7 +6,9 @@ Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluste
   i.e. nchan's `<unix seconds>:<tag>` with a dash. Redis generates the tag (`XADD key <s>-*`),
   so ids increase within a channel and need no mapping table.
 - `relay:{c}:meta`    hash: `last` id ever published, newest `evicted` id (for gap notices),
-  `requested` time of the last read, `bytes` of message data in the stream (the byte bound).
+  `requested` time of the last read, `bytes` of message data in the stream (the byte bound),
+  `first`, the time of the stream's oldest entry when known (so that a publish that exceeds
+  no bound reads no entry to check its age).
 - `relay:{c}:subs`    hash: replica id -> its local subscriber count.
 - `relay:{c}:deleted` the stream of a channel just deleted, kept a minute (DELETED_KEPT_S) so
   that every replica delivers what preceded the delete before closing.
@@ -98,24 +100,54 @@ local function clock()
   return tonumber(t[1]) + tonumber(t[2]) / 1e6, tonumber(t[1])
 end
 
--- Drop the oldest entries while there are more than `maxlen`, or their data (meta.bytes, the
--- `d` fields' total) exceeds `maxbytes` and more than one is left, or the oldest is older than
--- `cutoff`; remember the newest dropped id in meta.evicted so that a resume from before it is
--- told about the gap.
-local function evict(stream, meta, maxlen, cutoff, maxbytes)
+-- Drop the oldest entries while there are more than `maxlen`, or their data (`bytes`, the `d`
+-- fields' total) exceeds `maxbytes` and more than one is left, or the oldest is older than
+-- `cutoff`. `first` is the oldest entry's time if known (meta.first), else false: while no
+-- bound is exceeded and it is not older than `cutoff`, nothing is read (the common case: an
+-- entry is only read to be dropped, or to learn its time). Returns the entries left, their
+-- bytes, the newest dropped id (or nil) and the oldest entry's time (false if none is left).
+local function trim(stream, count, bytes, first, maxlen, cutoff, maxbytes)
   local evicted = nil
-  local count = redis.call('XLEN', stream)
-  local bytes = tonumber(redis.call('HGET', meta, 'bytes') or '0')
   while count > 0 do
-    local first = redis.call('XRANGE', stream, '-', '+', 'COUNT', 1)[1]
     local over = count > maxlen or (count > 1 and bytes > maxbytes)
-    if not over and tonumber(first[2][2]) >= cutoff then break end
-    redis.call('XDEL', stream, first[1])
-    bytes = bytes - string.len(first[2][6])  -- fields: t, time, c, type, d, data[, e, event]
+    if not over and first and first >= cutoff then break end
+    local oldest = redis.call('XRANGE', stream, '-', '+', 'COUNT', 1)[1]
+    first = tonumber(oldest[2][2])
+    if not over and first >= cutoff then break end
+    redis.call('XDEL', stream, oldest[1])
+    bytes = bytes - string.len(oldest[2][6])  -- fields: t, time, c, type, d, data[, e, event]
     count = count - 1
-    evicted = first[1]
+    evicted = oldest[1]
+    first = false
   end
-  if evicted then redis.call('HSET', meta, 'evicted', evicted, 'bytes', bytes) end
+  return count, bytes, evicted, first
+end
+
+-- The meta fields that `trim` changed, as HSET arguments (HDEL of `first` if none is left);
+-- meta.evicted remembers the newest dropped id so that a resume from before it is told about
+-- the gap.
+local function trimmed(meta, fields, evicted, first, known)
+  if evicted then
+    table.insert(fields, 'evicted')
+    table.insert(fields, evicted)
+  end
+  if first and first ~= known then
+    table.insert(fields, 'first')
+    table.insert(fields, string.format('%.6f', first))
+  elseif not first and known then
+    redis.call('HDEL', meta, 'first')
+  end
+  if #fields > 0 then redis.call('HSET', meta, unpack(fields)) end
+end
+
+-- `trim` with the stream's state read from Redis and written back; the entries left.
+local function evict(stream, meta, maxlen, cutoff, maxbytes)
+  local state = redis.call('HMGET', meta, 'bytes', 'first')
+  local known = tonumber(state[2]) or false
+  local count, bytes, evicted, first = trim(
+    stream, redis.call('XLEN', stream), tonumber(state[1] or '0'), known, maxlen, cutoff, maxbytes)
+  trimmed(meta, evicted and {'bytes', bytes} or {}, evicted, first, known)
+  return count
 end
 
 -- Subscribers of all replicas that sent a heartbeat within `alive` seconds.
@@ -136,9 +168,9 @@ _PUBLISH = (
     _LUA_HELPERS
     + """
 local now, seconds = clock()
-local last = redis.call('HGET', KEYS[2], 'last')
-if last then
-  local last_seconds = tonumber(string.match(last, '^(%d+)-'))
+local meta = redis.call('HMGET', KEYS[2], 'last', 'bytes', 'first', 'requested')
+if meta[1] then
+  local last_seconds = tonumber(string.match(meta[1], '^(%d+)-'))
   if last_seconds > seconds then seconds = last_seconds end
 end
 local fields = {'t', string.format('%.6f', now), 'c', ARGV[6], 'd', ARGV[7]}
@@ -152,13 +184,18 @@ if #ARGV[7] <= tonumber(ARGV[11]) then
   for i = 1, #fields do table.insert(news, fields[i]) end
 end
 redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[10], '*', unpack(news))
-redis.call('HSET', KEYS[2], 'last', id)
-redis.call('HINCRBY', KEYS[2], 'bytes', string.len(ARGV[7]))
-evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]), tonumber(ARGV[3]))
+local count = redis.call('XLEN', KEYS[1])
+local known = tonumber(meta[3]) or false
+local first = known
+if count == 1 then first = tonumber(fields[2]) end  -- the new entry is the only one
+local bytes = tonumber(meta[2] or '0') + string.len(ARGV[7])
+local evicted
+count, bytes, evicted, first = trim(KEYS[1], count, bytes, first, tonumber(ARGV[1]),
+  now - tonumber(ARGV[2]), tonumber(ARGV[3]))
+trimmed(KEYS[2], {'last', id, 'bytes', bytes}, evicted, first, known)
 redis.call('EXPIRE', KEYS[1], ARGV[5])
 redis.call('EXPIRE', KEYS[2], ARGV[5])
-local requested = redis.call('HGET', KEYS[2], 'requested') or ''
-return {id, string.format('%.6f', now), redis.call('XLEN', KEYS[1]), requested,
+return {id, fields[2], count, meta[4] or '',
   subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[4]))}
 """
 )
