@@ -265,23 +265,25 @@ class RedisStorage(Storage):
         doc = await self._redis.hget(f"{P}i:{table_id}", shot_id)
         return InputEntry.model_validate_json(doc) if doc else None
 
-    async def inputs(self, table_id: str) -> list[InputEntry]:
-        shot_ids = await self._redis.lrange(f"{P}l:{table_id}", 0, -1)
+    async def _logged(self, table_id: str, start: int, stop: int) -> list[InputEntry]:
+        """The played inputs from `start` to `stop` (inclusive, -1: the last) of the log."""
+        shot_ids = await self._redis.lrange(f"{P}l:{table_id}", start, stop)
         if not shot_ids:
             return []
         docs = await self._redis.hmget(f"{P}i:{table_id}", shot_ids)
-        return [without_motion(InputEntry.model_validate_json(doc)) for doc in docs]
+        return [InputEntry.model_validate_json(doc) for doc in docs]
+
+    async def inputs(self, table_id: str) -> list[InputEntry]:
+        return await self._logged(table_id, 0, -1)
 
     async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
         start, end = await self._redis.hmget(f"{P}rs:{table_id}", [str(rack), str(rack + 1)])
         if start is None:  # nothing logged in this rack, or logged before racks' starts were
-            return [without_motion(e) for e in await self.inputs(table_id) if e.rack == rack]
-        stop = -1 if end is None else int(end) - 1
-        shot_ids = await self._redis.lrange(f"{P}l:{table_id}", int(start), stop)
-        if not shot_ids:
-            return []
-        docs = await self._redis.hmget(f"{P}i:{table_id}", shot_ids)
-        return [without_motion(InputEntry.model_validate_json(doc)) for doc in docs]
+            entries = [e for e in await self.inputs(table_id) if e.rack == rack]
+        else:
+            stop = -1 if end is None else int(end) - 1
+            entries = await self._logged(table_id, int(start), stop)
+        return [without_motion(entry) for entry in entries]
 
     async def expire_tables(self, now: float, limit: int) -> list[str]:
         keys = [f"{P}expiry", f"{P}listed", f"{P}deadlines"]

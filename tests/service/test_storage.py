@@ -247,8 +247,8 @@ async def test_rack_inputs_are_one_racks_inputs_in_order(storage: Storage) -> No
 async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(
     open_storage: OpenStorage,
 ) -> None:
-    """A rack's record needs its inputs and states; `find_input` and the table's last outcome
-    keep the whole outcome, after a restart too."""
+    """A rack's record needs its inputs and states; `find_input`, `inputs` and the table's
+    last outcome keep the whole outcome, after a restart too."""
     storage = await open_storage()
     record = join(a_table(), BOB)
     await storage.create_table(record)
@@ -264,6 +264,7 @@ async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(
     (logged,) = await storage.rack_inputs(record.id, 1)
     assert logged.outcome is not None and logged.outcome.trajectory is None
     assert logged.outcome.state == outcome.state and logged.input == action
+    assert [e.outcome for e in await storage.inputs(record.id)] == [outcome]  # invariant 5
     assert (await storage.find_input(record.id, "break-0001")).outcome == outcome
     assert (await storage.get_table(record.id)).last_outcome == outcome
     await storage.close()
