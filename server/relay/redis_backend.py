@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import functools
 import logging
 import uuid
 from collections.abc import Iterator
@@ -78,6 +79,8 @@ PUBLISH_PIPELINES = 2  # publishes on their way to Redis at once, in pipelines o
 PUBLISH_BATCH = 256  # this many (see `server.relay.redis_batch`)
 DELETED_KEPT_S = 60  # a deleted stream stays readable this long for the replicas' readers
 RETRY_AFTER_S = 1
+_NEWS_BOUNDS = (NEWS_KEPT, NEWS_DATA_MAX)
+REDIS_TIMEOUT_S = 10.0  # to connect, and for a publish pipeline's replies (then 503)
 
 
 def _unavailable(error: Exception) -> Unavailable:
@@ -336,7 +339,9 @@ class RedisBackend(Backend):
         self._reader = ReplicaReader(
             url, self.replica, self._redis, self._fan_out_entries, self._deleted_elsewhere
         )
-        self._publish = ScriptBatcher(self._redis, _PUBLISH, PUBLISH_PIPELINES, PUBLISH_BATCH)
+        self._publish = ScriptBatcher(
+            url, _PUBLISH, PUBLISH_PIPELINES, PUBLISH_BATCH, REDIS_TIMEOUT_S
+        )
         self._read_since = self._redis.register_script(_READ_SINCE)
         self._info_script = self._redis.register_script(_INFO)
         self._delete = self._redis.register_script(_DELETE)
@@ -350,32 +355,21 @@ class RedisBackend(Backend):
     def _bounds(self) -> list[Any]:
         return [self.config.buffer_length, self.config.message_ttl, self.config.buffer_bytes]
 
+    @functools.cached_property
+    def _publish_bounds(self) -> tuple[Any, ...]:
+        return (*self._bounds, ALIVE_S, IDLE_KEY_S)
+
     async def publish(
         self, channel: str, data: bytes, content_type: str, event: str | None = None
     ) -> Published:
-        keys = _keys(channel)
-        with _store_errors():
+        stream, meta, subs = _keys(channel).values()
+        try:
             reply = await self._publish(
-                [
-                    keys["stream"],
-                    keys["meta"],
-                    keys["subs"],
-                    REPLICAS_KEY,
-                    NEWS_KEY,
-                    NEWS_SEQUENCE_KEY,
-                ],
-                [
-                    *self._bounds,
-                    ALIVE_S,
-                    IDLE_KEY_S,
-                    content_type,
-                    data,
-                    event or "",
-                    channel,
-                    NEWS_KEPT,
-                    NEWS_DATA_MAX,
-                ],
+                [stream, meta, subs, REPLICAS_KEY, NEWS_KEY, NEWS_SEQUENCE_KEY],
+                [*self._publish_bounds, content_type, data, event or "", channel, *_NEWS_BOUNDS],
             )
+        except REDIS_DOWN as error:
+            raise _unavailable(error) from None
         stream_id, now, messages, requested, subscribers = reply
         message = StoredMessage(
             channel=channel,
@@ -448,6 +442,7 @@ class RedisBackend(Backend):
                 pipe.zrem(REPLICAS_KEY, self.replica)
                 await pipe.execute()
         await self._reader.close()
+        self._publish.close()
         await self._redis.aclose()
 
     # ----- the feed: this replica's one reader --------------------------------------------

@@ -13,28 +13,25 @@ The script is called by its SHA1 (`EVALSHA`); if Redis does not know it (it rest
 script cache was flushed), it is loaded and the calls refused for that reason are sent again:
 Redis refused them before running anything, so none runs twice.
 
-Nothing else is ever sent twice. A pipeline is written once; if its connection fails before
-every reply has been read, the calls whose replies were read get them, and the others get the
-connection's error: Redis may have run them (their messages stored, the answer lost), so
-resending would store them twice. The caller answers 503 and the publisher decides, as with any
-request whose answer never came. A pooled connection that Redis closed while it sat idle (a
-restart) is not a failure of this kind: the pool sees it closed when it hands it out, before
-anything is written, and connects afresh (`ConnectionPool.ensure_connection`).
+Nothing else is ever sent twice. A pipeline is written once, on one of the batcher's own
+lean connections (`server.relay.resp`, one per pipeline in flight); if its connection fails
+before every reply has been read, the calls whose replies were read get them, and the others
+get the connection's error: Redis may have run them (their messages stored, the answer lost),
+so resending would store them twice. The caller answers 503 and the publisher decides, as with
+any request whose answer never came. A connection that failed, or that Redis closed while it
+sat idle (a restart), is dropped, and the next pipeline opens a new one before writing
+anything.
 """
 
 from __future__ import annotations
 
 import asyncio
 import hashlib
-import math
 from typing import Any
 
-import hiredis
-import redis.asyncio as aioredis
-from redis.asyncio.connection import Connection
-from redis.exceptions import ConnectionError as RedisConnectionError
-from redis.exceptions import NoScriptError, ResponseError
-from redis.exceptions import TimeoutError as RedisTimeoutError
+from redis.exceptions import ResponseError
+
+from server.relay.resp import Connection, pack
 
 Call = tuple[list[Any], list[Any], "asyncio.Future[Any]"]
 
@@ -42,8 +39,9 @@ Call = tuple[list[Any], list[Any], "asyncio.Future[Any]"]
 class ScriptBatcher:
     """`await batcher(keys, args)`: the script's reply, the calls of a moment sent as one."""
 
-    def __init__(self, redis: aioredis.Redis, script: str, pipelines: int, batch: int) -> None:
-        self._redis = redis
+    def __init__(self, url: str, script: str, pipelines: int, batch: int, timeout: float) -> None:
+        self._url = url
+        self._timeout = timeout  # to connect, and for a pipeline's replies
         self._script = script
         self._sha = hashlib.sha1(script.encode()).hexdigest()
         self._pipelines = pipelines  # at most this many on their way at once
@@ -52,6 +50,8 @@ class ScriptBatcher:
         self._sending = 0
         self._scheduled = False
         self._tasks: set[asyncio.Task[None]] = set()
+        self._idle: list[Connection] = []  # open connections with no pipeline on their way
+        self._closed = False
 
     async def __call__(self, keys: list[Any], args: list[Any]) -> Any:
         future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
@@ -96,46 +96,46 @@ class ScriptBatcher:
                 future.set_result(reply)
 
     async def _execute(self, calls: list[tuple[list[Any], list[Any]]]) -> list[Any]:
-        replies = await self._pipeline(calls)
-        unknown = [n for n, reply in enumerate(replies) if isinstance(reply, NoScriptError)]
+        replies = await self._pipeline(
+            b"".join(self._evalsha(keys, args) for keys, args in calls), len(calls)
+        )
+        unknown = [n for n, reply in enumerate(replies) if _no_script(reply)]
         if unknown:
-            await self._redis.script_load(self._script)
-            again = await self._pipeline([calls[n] for n in unknown])
+            (loaded,) = await self._pipeline(pack("SCRIPT", "LOAD", self._script), 1)
+            if isinstance(loaded, Exception):
+                raise loaded
+            again = await self._pipeline(
+                b"".join(self._evalsha(*calls[n]) for n in unknown), len(unknown)
+            )
             for n, reply in zip(unknown, again, strict=True):
                 replies[n] = reply
         return replies
 
-    async def _pipeline(self, calls: list[tuple[list[Any], list[Any]]]) -> list[Any]:
-        """One round trip for `calls` on a connection of the pool, written once (see the module
-        docstring). Packed by hiredis in one piece, not command by command as redis-py's asyncio
-        pipeline does in Python: on the publish path that packing was the larger cost."""
-        packed = b"".join(
-            hiredis.pack_command(("EVALSHA", self._sha, len(keys), *keys, *args))
-            for keys, args in calls
-        )
-        pool = self._redis.connection_pool
-        connection = await pool.get_connection()
-        replies: list[Any] = []
+    def _evalsha(self, keys: list[Any], args: list[Any]) -> bytes:
+        return pack("EVALSHA", self._sha, len(keys), *keys, *args)
+
+    async def _pipeline(self, packed: bytes, count: int) -> list[Any]:
+        """One round trip for `count` packed commands, written once (see the module
+        docstring), on an idle connection of the batcher or a new one."""
+        connection = self._idle.pop() if self._idle else None
+        if connection is None or connection.closed:
+            connection = await Connection.open(self._url, self._timeout)
         try:
-            await _round_trip(connection, packed, len(calls), replies)
-        except (RedisConnectionError, RedisTimeoutError, OSError) as error:
-            await connection.disconnect()
-            replies += [error] * (len(calls) - len(replies))
+            return await connection.round_trip(packed, count, self._timeout)
         finally:
-            await pool.release(connection)
-        return replies
+            if self._closed:
+                connection.close()
+            elif not connection.closed:
+                self._idle.append(connection)
+
+    def close(self) -> None:
+        """Close the batcher's connections (a pipeline on its way closes its own when done)."""
+        self._closed = True
+        for connection in self._idle:
+            connection.close()
+        self._idle.clear()
 
 
-async def _round_trip(
-    connection: Connection, packed: bytes, count: int, replies: list[Any]
-) -> None:
-    """Send packed commands, then append their `count` replies to `replies` as they come (an
-    error reply as its exception, in its place). One deadline for the whole round trip, the
-    connection's socket timeout, rather than one timer per reply."""
-    async with asyncio.timeout(connection.socket_timeout):
-        await connection.send_packed_command(packed, check_health=False)
-        for _ in range(count):
-            try:
-                replies.append(await connection.read_response(timeout=math.inf))
-            except ResponseError as error:
-                replies.append(error)
+def _no_script(reply: Any) -> bool:
+    """Redis refused the call, before running anything, for not knowing the script's SHA1."""
+    return isinstance(reply, ResponseError) and str(reply).startswith("NOSCRIPT")

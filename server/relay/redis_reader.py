@@ -6,7 +6,9 @@ a publish the message's stream id and, unless it is larger than `NEWS_DATA_MAX`,
 itself (for a delete, the deleting replica instead). Each replica blocks on that single stream
 with one `XREAD` on one connection, whatever its number of channels, and hands each message of
 its channels to their local subscribers straight from the news: one round trip per batch of
-news, none per message or per channel. Only a message too large to travel in the news is
+news, none per message or per channel (on a lean connection of its own, `server.relay.resp`:
+the news is read once per batch of messages, and redis-py's cost per round trip was most of
+the reader's). Only a message too large to travel in the news is
 fetched from its channel's stream (`XRANGE` after the newest id held for the channel, pipelined
 for every such channel of the batch). Redis' connection count per replica is fixed (this reader
 plus the backend's command pool), and a new channel needs no wake-up: its position is recorded
@@ -26,15 +28,14 @@ closes the channel's subscribers.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 from collections.abc import Callable, Iterable
 
 import redis.asyncio as aioredis
-from redis.asyncio.retry import Retry
-from redis.backoff import NoBackoff
 from redis.exceptions import ConnectionError as RedisConnectionError
 from redis.exceptions import TimeoutError as RedisTimeoutError
+
+from server.relay.resp import Connection, pack
 
 log = logging.getLogger(__name__)
 
@@ -46,6 +47,8 @@ DELETED_PART = "deleted"  # a deleted channel's stream, kept briefly under this 
 NEWS_KEPT = 10_000
 NEWS_DATA_MAX = 8 * 1024
 READ_BLOCK_MS = 30_000  # an idle reader re-blocks this often
+READ_TIMEOUT_S = READ_BLOCK_MS / 1000 + 10  # a blocked read answers within this, or Redis is gone
+CONNECT_TIMEOUT_S = 10.0
 READ_BATCH = 1024  # news entries per read, and messages per channel per fetch
 RECONNECT_MAX_S = 1.0
 STOP_S = 1.0
@@ -60,6 +63,12 @@ _NEWS_END = """
 local newest = redis.call('XREVRANGE', KEYS[1], '+', '-', 'COUNT', 1)[1]
 return {newest and newest[1] or '0-0', redis.call('GET', KEYS[2]) or '0'}
 """
+
+
+def _pairs(flat: list[bytes]) -> Fields:
+    """A stream entry's fields as Redis sends them, [field, value, ...], as a dict."""
+    items = iter(flat)
+    return dict(zip(items, items, strict=True))
 
 
 def channel_key(channel: str, part: str) -> str:
@@ -116,17 +125,11 @@ class ReplicaReader:
         on_deleted: Callable[[str], None],
     ) -> None:
         self.replica = replica
+        self._url = url
         self._commands = commands  # the backend's pool: positions and fetches
         self._on_messages = on_messages
         self._on_deleted = on_deleted
-        self._client = aioredis.Redis.from_url(
-            url,
-            single_connection_client=True,
-            retry=Retry(NoBackoff(), 0),
-            socket_timeout=READ_BLOCK_MS / 1000 + 10,  # longer than a blocked XREAD
-            socket_keepalive=True,
-            driver_info=None,
-        )
+        self._connection: Connection | None = None  # the blocking reads' own
         self._news_end = commands.register_script(_NEWS_END)
         self._positions: dict[str, Position] = {}
         self._news_at = b"0-0"
@@ -162,12 +165,9 @@ class ReplicaReader:
         """Stop reading: cancel the task and drop the connection under a blocked XREAD."""
         if self._task is not None:
             self._task.cancel()
-            connection = self._client.connection
-            if connection is not None:
-                await connection.disconnect(nowait=True)
+            if self._connection is not None:
+                self._connection.close()
             await asyncio.wait({self._task}, timeout=STOP_S)
-        with contextlib.suppress(*REDIS_DOWN):
-            await self._client.aclose()
 
     async def _loop(self) -> None:
         delay = 0.05
@@ -193,13 +193,23 @@ class ReplicaReader:
             await asyncio.sleep(delay)
             delay = min(delay * 2, RECONNECT_MAX_S)
 
-    async def _read_news(self) -> None:
-        reply = await self._client.xread(
-            {NEWS_KEY: self._news_at}, count=READ_BATCH, block=READ_BLOCK_MS
+    async def _next_news(self) -> Entries:
+        """The news after `_news_at` (blocking until there is some, or READ_BLOCK_MS)."""
+        if self._connection is None or self._connection.closed:
+            self._connection = await Connection.open(self._url, CONNECT_TIMEOUT_S)
+        command = ("XREAD", "COUNT", READ_BATCH, "BLOCK", READ_BLOCK_MS, "STREAMS")
+        (reply,) = await self._connection.round_trip(
+            pack(*command, NEWS_KEY, self._news_at), 1, READ_TIMEOUT_S
         )
-        if cancelled() or not reply:
+        if isinstance(reply, Exception):
+            raise reply
+        # [[news, [[id, [field, value, ...]], ...]]], or None when the block ran out
+        return [] if reply is None else [(id_, _pairs(flat)) for id_, flat in reply[0][1]]
+
+    async def _read_news(self) -> None:
+        entries = await self._next_news()
+        if cancelled() or not entries:
             return
-        entries = reply[0][1]
         self._news_at = entries[-1][0]
         # Consecutive sequence numbers: nothing unread was trimmed, Redis lost nothing.
         lost = int(entries[0][1][b"n"]) != self._next_sequence

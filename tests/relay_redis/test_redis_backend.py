@@ -293,14 +293,14 @@ class HeldReads:
 
     def __init__(self, backend: RedisBackend) -> None:
         self._gate = asyncio.Event()
-        client = backend._reader._client
-        real = client.xread
+        reader = backend._reader
+        real = reader._next_news
 
-        async def held(*args: object, **kwargs: object) -> object:
+        async def held() -> object:
             await self._gate.wait()
-            return await real(*args, **kwargs)
+            return await real()
 
-        client.xread = held  # type: ignore[method-assign]
+        reader._next_news = held  # type: ignore[method-assign]
 
     def release(self) -> None:
         self._gate.set()
