@@ -50,7 +50,8 @@ from server.api_models import (
 )
 from server.errors import ErrorCode, ServiceError
 from server.lobby import new_seed, new_table_id
-from server.relay.http import bearer_token
+from server.relay.addresses import client_address
+from server.relay.http import bearer_token, relay_of
 from server.relay.payloads import JSON, media_type
 from server.relay.relay import Relay
 from server.service import SERVICE_KEY, Service, running_service
@@ -162,7 +163,8 @@ async def full_view(service: Service, record: TableRecord) -> TableView:
 async def register(request: web.Request) -> web.Response:
     create = await parse(request, PlayerCreate)
     service = service_of(request)
-    service.throttle("register", request.remote or "")
+    relay = relay_of(request)
+    service.throttle("register", client_address(request, relay.trusted_proxies))
     token = await service.identity.register(create.name)
     service.lobby.changed()  # one more player online
     return answer(token, 201)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import ipaddress
 import os
 
 
@@ -40,7 +41,11 @@ def _serve(args: argparse.Namespace) -> int:
     secret = os.environ.get("BILLIARDS_RELAY_SECRET")
     if secret is None and args.redis is None:
         secret = token_key(args.db)
-    relay = relay_settings(auth_secret=secret)
+    relay = relay_settings(
+        auth_secret=secret,
+        trusted_proxies=args.trusted_proxy,
+        max_connections_per_address=args.max_connections_per_address,
+    )
     grace = {} if args.grace is None else {"grace": args.grace}
     settings = AppSettings(
         relay=relay, redis_url=args.redis, database=args.db, workers=args.workers, **grace
@@ -49,6 +54,14 @@ def _serve(args: argparse.Namespace) -> int:
     collector.install(app)
     web.run_app(app, host=args.host, port=args.port, loop=new_event_loop(args.uvloop))
     return 0
+
+
+def _network(text: str) -> str:
+    try:
+        ipaddress.ip_network(text, strict=False)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return text
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -66,6 +79,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="SECONDS",
         help="how long a disconnected player may stay away before the opponent may claim the "
         "win (default: server.tables.GRACE)",
+    )
+    parser.add_argument(
+        "--trusted-proxy",
+        action="append",
+        default=[],
+        type=_network,
+        metavar="CIDR",
+        help="a load balancer whose X-Forwarded-For names the client (repeatable; an address "
+        "or a block such as 172.28.0.0/16)",
+    )
+    parser.add_argument(
+        "--max-connections-per-address",
+        type=int,
+        metavar="N",
+        help="subscriber connections one client address may hold (default: no cap)",
     )
     parser.add_argument(
         "--uvloop", action="store_true", help="run on uvloop's event loop (pip install uvloop)"

@@ -148,6 +148,7 @@ def openapi_document() -> dict[str, Any]:
                         "403": _error("the request's Origin may not subscribe"),
                         "408": _error("long-poll: no message within the timeout"),
                         "410": _error("long-poll: the channel was deleted"),
+                        "429": _error("the client's address holds its cap of connections"),
                         **_UNAVAILABLE,
                     },
                 },

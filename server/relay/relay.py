@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from pydantic import ValidationError
 
+from server.relay.addresses import ConnectionCounts, Network, networks
 from server.relay.auth import TokenAuthority, TokenClaims
 from server.relay.backend import Backend
 from server.relay.errors import RelayError
@@ -40,6 +41,8 @@ class Relay:
     limiter: RateLimiter
     server_limiter: RateLimiter  # server tokens (the game service) have a budget of their own
     output: OutputBudget  # what every connection's send queue draws on
+    connections: ConnectionCounts  # subscriber connections per client address
+    trusted_proxies: tuple[Network, ...]  # whose X-Forwarded-For names the client
 
     @classmethod
     def build(cls, backend: Backend, settings: RelaySettings) -> Relay:
@@ -51,6 +54,8 @@ class Relay:
             limiter=RateLimiter(settings.publish_rate, settings.publish_burst),
             server_limiter=RateLimiter(settings.server_publish_rate, settings.server_publish_burst),
             output=OutputBudget(settings.send_budget_bytes),
+            connections=ConnectionCounts(settings.max_connections_per_address),
+            trusted_proxies=networks(settings.trusted_proxies),
         )
 
     def send_queue(

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from server.relay.addresses import networks
 from server.relay.backend import BackendConfig, Start
 
 
@@ -59,3 +60,20 @@ class RelaySettings(BaseModel):
     keepalive: float | None = Field(
         default=30.0, description="s between WebSocket pings, SSE comments"
     )
+    max_connections_per_address: int | None = Field(
+        default=None,
+        ge=1,
+        description="subscriber connections one client address may hold (429 past it); None: "
+        "no cap (the byte bounds hold without one)",
+    )
+    trusted_proxies: list[str] = Field(
+        default=[],
+        description="addresses or CIDR blocks of load balancers whose X-Forwarded-For names the "
+        "client (server.relay.addresses); from anyone else the header is ignored",
+    )
+
+    @field_validator("trusted_proxies")
+    @classmethod
+    def _networks(cls, entries: list[str]) -> list[str]:
+        networks(entries)  # ValueError on a malformed entry
+        return entries

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from aiohttp import web
 
+from server.relay.addresses import client_address
 from server.relay.cursor import Cursor
 from server.relay.errors import RelayError
 from server.relay.eventsource import eventsource_subscriber
@@ -26,6 +27,20 @@ def _channels(text: str, limit: int) -> list[str]:
 
 
 async def subscribe(request: web.Request) -> web.StreamResponse:
+    """A subscriber connection, counted against its client's address while it lasts."""
+    relay = relay_of(request)
+    address = client_address(request, relay.trusted_proxies)
+    try:
+        relay.connections.acquire(address)
+    except RelayError as error:
+        return error_response(error)
+    try:
+        return await _subscribe(request)
+    finally:
+        relay.connections.release(address)
+
+
+async def _subscribe(request: web.Request) -> web.StreamResponse:
     relay = relay_of(request)
     is_websocket = request.headers.get("Upgrade", "").lower() == "websocket"
     is_eventsource = "text/event-stream" in request.headers.get("Accept", "")
