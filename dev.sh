@@ -66,6 +66,7 @@ case "${1:-}" in
         setup_python
         require_kernel
         need_debian_package redis-server redis-server
+        need_debian_package nginx nginx  # tests/service/test_topology.py: the load balancer
         need_debian_package chromium chromium
         setup_web
         shift
