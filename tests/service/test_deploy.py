@@ -5,6 +5,7 @@ parsed and their references checked against the tree and against the server's ow
 from __future__ import annotations
 
 import fnmatch
+import ipaddress
 import re
 import shlex
 from pathlib import Path
@@ -114,6 +115,18 @@ def test_three_replicas_serve_on_one_port_with_the_shared_redis_and_secret():
     assert len(ports) == 1
     exposed = [a for i, a in dockerfile_instructions(ROOT / "deploy/Dockerfile") if i == "EXPOSE"]
     assert exposed == [str(ports.pop())]
+
+
+def test_replicas_trust_the_compose_network_for_forwarded_addresses():
+    """nginx reaches the replicas from the compose network's subnet: that is the proxy whose
+    X-Forwarded-For the replicas believe, and each player's address is then bounded."""
+    (subnet,) = [c["subnet"] for c in COMPOSE["networks"]["default"]["ipam"]["config"]]
+    for name in REPLICAS:
+        args = serve_args(SERVICES[name])
+        assert [ipaddress.ip_network(p) for p in args.trusted_proxy] == [
+            ipaddress.ip_network(subnet)
+        ]
+        assert args.max_connections_per_address and args.max_connections_per_address >= 16
 
 
 def test_nginx_balances_every_replica_and_passes_websocket_upgrades():
