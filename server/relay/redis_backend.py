@@ -8,7 +8,8 @@ Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluste
 - `relay:{c}:meta`    hash: `last` id ever published, newest `evicted` id (for gap notices),
   `requested` time of the last read, `bytes` of message data in the stream (the byte bound),
   `first`, the time of the stream's oldest entry when known (so that a publish that exceeds
-  no bound reads no entry to check its age).
+  no bound reads no entry to check its age), `kept`, when the keys' idle expiry was last
+  renewed (at most once per `RENEW_S`).
 - `relay:{c}:subs`    hash: replica id -> its local subscriber count.
 - `relay:{c}:deleted` the stream of a channel just deleted, kept a minute (DELETED_KEPT_S) so
   that every replica delivers what preceded the delete before closing.
@@ -73,13 +74,14 @@ log = logging.getLogger(__name__)
 REPLICAS_KEY = "relay:replicas"
 HEARTBEAT_S = 5.0
 ALIVE_S = 15.0
-IDLE_KEY_S = 86400  # a channel's keys outlive its last message by this long
+IDLE_KEY_S = 86400  # a channel's keys outlive its last message by this long, less at most
+RENEW_S = 3600  # this: the publish that renews their expiry comes at most once in this time
 COMMAND_CONNECTIONS = 64
 PUBLISH_PIPELINES = 2  # publishes on their way to Redis at once, in pipelines of at most
 PUBLISH_BATCH = 256  # this many (see `server.relay.redis_batch`)
 DELETED_KEPT_S = 60  # a deleted stream stays readable this long for the replicas' readers
 RETRY_AFTER_S = 1
-_NEWS_BOUNDS = (NEWS_KEPT, NEWS_DATA_MAX)
+_PUBLISH_LAST = (NEWS_KEPT, NEWS_DATA_MAX, RENEW_S)  # the publish script's last arguments
 REDIS_TIMEOUT_S = 10.0  # to connect, and for a publish pipeline's replies (then 503)
 
 
@@ -167,11 +169,12 @@ end
 
 # KEYS: stream meta subs replicas news news_sequence
 # ARGV: maxlen ttl maxbytes alive idle_s content_type data event channel news_kept news_data_max
+#       renew_s
 _PUBLISH = (
     _LUA_HELPERS
     + """
 local now, seconds = clock()
-local meta = redis.call('HMGET', KEYS[2], 'last', 'bytes', 'first', 'requested')
+local meta = redis.call('HMGET', KEYS[2], 'last', 'bytes', 'first', 'requested', 'kept')
 if meta[1] then
   local last_seconds = tonumber(string.match(meta[1], '^(%d+)-'))
   if last_seconds > seconds then seconds = last_seconds end
@@ -195,9 +198,19 @@ local bytes = tonumber(meta[2] or '0') + string.len(ARGV[7])
 local evicted
 count, bytes, evicted, first = trim(KEYS[1], count, bytes, first, tonumber(ARGV[1]),
   now - tonumber(ARGV[2]), tonumber(ARGV[3]))
-trimmed(KEYS[2], {'last', id, 'bytes', bytes}, evicted, first, known)
-redis.call('EXPIRE', KEYS[1], ARGV[5])
-redis.call('EXPIRE', KEYS[2], ARGV[5])
+-- The keys' idle expiry is renewed once per renew_s rather than by every publish: two EXPIREs,
+-- each with its entry in the append-only file, were a sixth of this script's time.
+local changed = {'last', id, 'bytes', bytes}
+local renew = not meta[5] or now - tonumber(meta[5]) >= tonumber(ARGV[12])
+if renew then
+  table.insert(changed, 'kept')
+  table.insert(changed, string.format('%.6f', now))
+end
+trimmed(KEYS[2], changed, evicted, first, known)
+if renew then  -- after the HSET, which creates the meta hash of a new channel
+  redis.call('EXPIRE', KEYS[1], ARGV[5])
+  redis.call('EXPIRE', KEYS[2], ARGV[5])
+end
 return {id, fields[2], count, meta[4] or '',
   subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[4]))}
 """
@@ -366,7 +379,7 @@ class RedisBackend(Backend):
         try:
             reply = await self._publish(
                 [stream, meta, subs, REPLICAS_KEY, NEWS_KEY, NEWS_SEQUENCE_KEY],
-                [*self._publish_bounds, content_type, data, event or "", channel, *_NEWS_BOUNDS],
+                [*self._publish_bounds, content_type, data, event or "", channel, *_PUBLISH_LAST],
             )
         except REDIS_DOWN as error:
             raise _unavailable(error) from None

@@ -18,7 +18,7 @@ from server.relay.backend import BackendConfig, Start
 from server.relay.errors import Unavailable
 from server.relay.ids import parse_message_id
 from server.relay.messages import ChannelClosed, Event, Gap, StoredMessage
-from server.relay.redis_backend import RedisBackend
+from server.relay.redis_backend import IDLE_KEY_S, RENEW_S, RedisBackend
 from tests.redis_server import RedisServer
 
 WAIT_S = 10.0  # generous bound for events to arrive on a loaded machine (not a timing claim)
@@ -443,3 +443,30 @@ async def test_a_publish_whose_answer_was_lost_is_not_sent_again(redis_server: R
     assert [fields[b"d"] for _, fields in entries] == [b"1", b"2", b"3"]
     assert third.info.messages == 3
     assert parse_message_id(third.message.id) > parse_message_id(first.message.id)
+
+
+async def test_a_channels_keys_expire_a_day_after_its_last_renewal(
+    make_backend: MakeBackend, redis_url: str
+) -> None:
+    """Every channel's keys carry the idle expiry from its first publish; later publishes
+    renew it only once RENEW_S has passed since the last renewal (the meta's `kept`)."""
+    backend = make_backend()
+    stream, meta = (redis_reader.channel_key("game", part) for part in ("stream", "meta"))
+    admin = aioredis.from_url(redis_url)
+    try:
+
+        async def ttls() -> list[int]:
+            return [await admin.ttl(key) for key in (stream, meta)]
+
+        await backend.publish("game", b"1", "text/plain")
+        assert all(IDLE_KEY_S - 5 < ttl <= IDLE_KEY_S for ttl in await ttls())
+        for key in (stream, meta):
+            await admin.expire(key, 1000)
+        await backend.publish("game", b"2", "text/plain")  # renewed a moment ago: left alone
+        assert all(990 < ttl <= 1000 for ttl in await ttls())
+        kept = float(await admin.hget(meta, "kept"))
+        await admin.hset(meta, "kept", f"{kept - RENEW_S:.6f}")  # as if an hour had passed
+        await backend.publish("game", b"3", "text/plain")
+        assert all(IDLE_KEY_S - 5 < ttl <= IDLE_KEY_S for ttl in await ttls())
+    finally:
+        await admin.aclose()
