@@ -6,13 +6,13 @@ a publish the message's stream id and, unless it is larger than `NEWS_DATA_MAX`,
 itself (for a delete, the deleting replica instead). Each replica blocks on that single stream
 with one `XREAD` on one connection, whatever its number of channels, and hands each message of
 its channels to their local subscribers straight from the news: one round trip per batch of
-news, none per message or per channel (on a lean connection of its own, `server.relay.resp`:
-the news is read once per batch of messages, and redis-py's cost per round trip was most of
-the reader's). Only a message too large to travel in the news is
-fetched from its channel's stream (`XRANGE` after the newest id held for the channel, pipelined
-for every such channel of the batch). Redis' connection count per replica is fixed (this reader
-plus the backend's command pool), and a new channel needs no wake-up: its position is recorded
-and the next news about it is read like any other.
+news, none per message or per channel, on a lean connection of its own (`server.relay.resp`:
+redis-py's cost per round trip was most of the reader's). Only a message too large to travel
+in the news is fetched from its channel's stream (`XRANGE` after the newest id held for the
+channel, pipelined for every such channel of the batch). Redis' connection count per replica
+is fixed (this reader, the publish pipelines' and the backend's command pool), and a new
+channel needs no wake-up: its position is recorded and the next news about it is read like
+any other.
 
 The per-channel positions are the truth; the news only carries copies. Every channel's entries
 are delivered in stream order, each once: an entry not newer than the channel's position is
