@@ -19,6 +19,10 @@ from server.trajectories import Trajectory
 
 #: The format version of channel messages; bumped when a client must change to read them.
 PROTOCOL = 1
+#: Seconds between the heartbeats a seated player's client sends (docs/protocol.md, Match
+#: life): a player is shown disconnected after tables.PRESENCE_TIMEOUT (10 s) without one, so
+#: two may be lost before that happens.
+HEARTBEAT_INTERVAL = 3.0
 
 
 def json_int(low: int, high: int | None = None) -> object:

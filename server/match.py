@@ -80,6 +80,18 @@ class MatchContext:
     breaks: Breaks
 
 
+def _answer(request: asyncio.Future, result: object) -> None:
+    """Answer the request waiting on `request` (`result` an exception to refuse it), unless
+    it has gone: a client that disconnects cancels the wait, and the job carries on anyway
+    (an accepted input is stored, and is played and published whether or not anyone asks)."""
+    if request.done():
+        return
+    if isinstance(result, BaseException):
+        request.set_exception(result)
+    else:
+        request.set_result(result)
+
+
 def duplicate(entry: InputEntry) -> IntentDuplicate:
     return IntentDuplicate(version=entry.version + 1, outcome=entry.outcome)
 
@@ -173,12 +185,12 @@ class MatchOwner:
             else:
                 raise ServiceError(ErrorCode.UNAVAILABLE, "the table is busy: try again")
         except ServiceError as error:
-            ack.set_exception(error)
+            _answer(ack, error)
             return
         if isinstance(answer, IntentDuplicate):
-            ack.set_result(answer)
+            _answer(ack, answer)
             return
-        ack.set_result(IntentAccepted(version=answer.version + 1))
+        _answer(ack, IntentAccepted(version=answer.version + 1))
         await self._resolve(answer)
         self._enqueue(self._look)
 
@@ -256,20 +268,20 @@ class MatchOwner:
                 record = await self._settled()
                 after = change(record)
                 if after is record:
-                    done.set_result(record)
+                    _answer(done, record)
                     return
                 if await self._context.storage.update(after):
                     break
             else:
                 raise ServiceError(ErrorCode.UNAVAILABLE, "the table is busy: try again")
         except ServiceError as error:
-            done.set_exception(error)
+            _answer(done, error)
             return
         seen = await self._context.storage.heartbeats(after.id)
         message = TableMessage(version=after.version, view=tables.view(after, seen))
         await self._context.publisher.publish(after.channel, message)
         await self._status_changed(record, after)
-        done.set_result(after)
+        _answer(done, after)
         self._enqueue(self._look)
 
     async def _expire(self) -> None:

@@ -4,10 +4,14 @@ Both talk to a server only through its public API (server/client.py). `play` reg
 guest, gets a table (quick match, a new table, a private link, practice or the bot), then
 plays every shot its seat is to play with a shot chooser (`--bot picker`, the rules' shot
 pickers, by default; `--bot bot:N` the searching bot at level N, `--bot bot` its strongest)
-and prints each outcome as it arrives, one line each, until the match is over.
+and prints each outcome as it arrives, one line each, until the match is over, sending the
+heartbeats a seated player owes meanwhile. `watch` prints a table's outcomes until it is over.
+Both ride out a connection that drops (server/client.py reconnects, resumes and resends
+what is safe to resend) and give up after `--patience` seconds without an answer.
 `submit` sends a game record (as `billiards selfplay --record` writes it), a name and the
-claimed score to the leaderboard, and prints the verdict. Exit status 0 on success, 2 with one
-line when the server refused something (a claim that does not hold says why).
+claimed score to the leaderboard, and prints the verdict. Exit status 0 on success (for
+`play` and `watch`: the match is over), 2 with one line when the server refused something (a
+claim that does not hold says why) or could not be reached.
 """
 
 from __future__ import annotations
@@ -23,6 +27,8 @@ from typing import TYPE_CHECKING
 from server.api_models import OutcomeMessage, Status, TableView
 
 if TYPE_CHECKING:
+    import aiohttp
+
     from rules.bot.chooser import Chooser
     from server.client import GameClient
 
@@ -72,8 +78,9 @@ async def _shoot_if_mine(
     nxt = change.next
     if nxt is None or nxt.player != client.player.id:
         return
-    # The search runs here, in the client's own process: it blocks nothing but this client.
-    action = chooser.choose(change.state)
+    # The search runs in the client's own process, on a thread so that the heartbeats and the
+    # feed's pings go on meanwhile (a long search would otherwise look like a dead client).
+    action = await asyncio.to_thread(chooser.choose, change.state)
     try:
         await client.send(view_id, change.version, action.model_dump(mode="json"))
     except Refused as refusal:
@@ -85,48 +92,55 @@ React = Callable[["GameClient", str, TableView | OutcomeMessage], Awaitable[None
 
 
 async def _print_changes(client: GameClient, view: TableView, react: React | None = None) -> int:
-    """Print each change of the table until the match is over, reacting to each (0: over)."""
+    """Print each change of the table until the match is over, reacting to each (0: over).
+    The feed rides out dropped connections; if it ends before the match does (the table's
+    channel was deleted), that is a failure, never a success."""
+    from server.client import Refused, finished
+
     names = names_of(view)
     async for change in client.follow(view):
         if isinstance(change, TableView):
             names = names_of(change)
         print(outcome_line(change, names), flush=True)
-        if change.status in (Status.OVER, Status.CANCELLED):
+        if finished(change):
             return 0
         if react is not None:
             await react(client, view.id, change)
-    return 0
+    raise Refused(0, "closed", "the table's channel closed before the match was over")
 
 
 async def play(args: argparse.Namespace) -> int:
     import aiohttp
 
     from rules.bot.chooser import chooser
-    from server.client import GameClient, Refused
+    from server.client import Refused
 
     try:
         shoot = partial(_shoot_if_mine, chooser(args.bot, secrets.randbits(32)))
     except ValueError as error:
         raise Refused(0, "unknown_chooser", str(error)) from None
     async with aiohttp.ClientSession() as session:
-        client = GameClient(args.url, session)
+        client = _client(args, session)
         await client.register(args.name or f"cli-{secrets.token_hex(3)}")
         view = await _open_table(client, args)
         print(f"table {view.id}: {view.game}, you are {client.player.name}", flush=True)
-        await shoot(client, view.id, view)
-        return await _print_changes(client, view, shoot)
+        async with client.heartbeats(view.id):
+            await shoot(client, view.id, view)
+            return await _print_changes(client, view, shoot)
 
 
 async def watch(args: argparse.Namespace) -> int:
     import aiohttp
 
-    from server.client import GameClient, table_id_of
+    from server.client import finished, table_id_of
 
+    # No heartbeats: they are a seated player's (the API refuses a spectator's); a spectator
+    # is counted by its feed, which the client keeps open.
     async with aiohttp.ClientSession() as session:
-        client = GameClient(args.url, session)
+        client = _client(args, session)
         view = await client.table(table_id_of(args.table))
         print(outcome_line(view, names_of(view)), flush=True)
-        if view.status in (Status.OVER, Status.CANCELLED):
+        if finished(view):
             return 0
         return await _print_changes(client, view)
 
@@ -162,7 +176,7 @@ async def submit(args: argparse.Namespace) -> int:
 def _run(
     command: Callable[[argparse.Namespace], Awaitable[int]],
 ) -> Callable[[argparse.Namespace], int]:
-    from server.client import Refused
+    from server.client import Refused, Unreachable, one_line
 
     def handler(args: argparse.Namespace) -> int:
         try:
@@ -170,8 +184,8 @@ def _run(
         except Refused as refusal:
             print(f"refused: {refusal.code}: {refusal.reason}", file=sys.stderr)
             return 2
-        except OSError as error:
-            print(f"cannot reach {args.url}: {error}", file=sys.stderr)
+        except (Unreachable, OSError) as error:
+            print(f"cannot reach {args.url}: {one_line(error)}", file=sys.stderr)
             return 2
 
     return handler
@@ -192,6 +206,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--bot", default="picker", help="shot chooser: picker (default), bot:N (level N), bot"
     )
     parser.add_argument("--name", help="display name (default: cli-<random>)")
+    _patience_option(parser)
     parser.set_defaults(func=_run(play))
 
     parser = subparsers.add_parser("submit", help="claim a leaderboard break from a record")
@@ -205,4 +220,23 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("watch", help="print a table's outcomes as they come")
     parser.add_argument("url", help="the server, e.g. http://127.0.0.1:8080")
     parser.add_argument("table", help="the table's id or link")
+    _patience_option(parser)
     parser.set_defaults(func=_run(watch))
+
+
+def _patience_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--patience",
+        type=float,
+        metavar="SECONDS",
+        help="how long to keep trying while the server cannot be reached before exiting with "
+        "status 2 (default: a minute)",
+    )
+
+
+def _client(args: argparse.Namespace, session: aiohttp.ClientSession) -> GameClient:
+    """The API client of a command, as patient as `--patience` asks."""
+    from server.client import GameClient, Patience
+
+    patience = Patience() if args.patience is None else Patience(give_up=args.patience)
+    return GameClient(args.url, session, patience)

@@ -10,11 +10,12 @@ from typing import Any
 from aiohttp.test_utils import TestClient
 
 from server import refereeing
+from server.api_models import Intent, PlayerInfo
 from server.client import from_json
 from server.match import LEASE
 from server.storage import Storage
 from server.tables import InputEntry
-from tests.service.conftest import Player, register, watch
+from tests.service.conftest import Player, register, service_of, watch
 
 
 def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
@@ -23,12 +24,14 @@ def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
     return refereeing.bot_input(state, "picker").model_dump(mode="json")
 
 
-async def abandon_input(storage: Storage, view: dict[str, Any], shot_id: str) -> None:
-    """Store an accepted, unplayed input as a replica that died a lease ago left it."""
+async def abandon_input(
+    storage: Storage, view: dict[str, Any], shot_id: str, seat: int = 0
+) -> None:
+    """Store an accepted, unplayed input of `seat` as a replica that died a lease ago left it."""
     record = await storage.get_table(view["id"])
     entry = InputEntry(
         shot_id=shot_id,
-        seat=0,
+        seat=seat,
         input=from_json(refereeing.Shot, picked(view)),
         version=record.version,
         accepted_at=time.time() - LEASE - 1,
@@ -178,3 +181,22 @@ async def test_spectators_are_the_readers_who_are_not_seated(server: TestClient)
             break
         await asyncio.sleep(0.02)
     assert fresh["spectators"] == 1 and len(watchers) == 3
+
+
+async def test_an_intent_whose_client_left_before_its_answer_is_still_played(
+    server: TestClient,
+) -> None:
+    """A client that disconnects cancels the request's wait for its answer; the input is
+    stored by then, and is played and published at once all the same (not left pending
+    until someone next touches the table)."""
+    ada, _, view = await seated_match(server)
+    watcher = await watch(server, view["channel"])
+    intent = from_json(Intent, {"version": view["version"], "shot_id": "gone-before-its-answer",
+                                "input": picked(view)})  # fmt: skip
+    owner = service_of(server).matches.owner(view["id"])
+    request = asyncio.ensure_future(owner.intent(from_json(PlayerInfo, ada.info), intent))
+    await asyncio.sleep(0)  # the job is queued; its request waits for the answer
+    request.cancel()
+    outcome = await watcher.next_kind("outcome")
+    assert outcome["shot_id"] == "gone-before-its-answer"
+    assert outcome["version"] == view["version"] + 1

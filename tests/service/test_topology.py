@@ -46,9 +46,10 @@ NGINX_CONF = ROOT / "deploy" / "nginx.conf"
 NGINX_BINARY = os.environ.get("NGINX", "/usr/sbin/nginx")
 REPLICAS = 3
 START_TIMEOUT_S = 10.0
-#: nginx's access log line: the status, the request, and every replica it was sent to in order
-#: (more than one when nginx passed it on to the next), so the test sees where requests went.
-ACCESS_LOG = "$status $request_method $uri $upstream_addr"
+#: nginx's access log line: the status, the request (its query too: a feed's resume id), and
+#: every replica it was sent to in order (more than one when nginx passed it on to the next),
+#: so the test sees where requests went.
+ACCESS_LOG = "$status $request_method $request_uri $upstream_addr"
 #: An outcome line of `billiards play` (server.play_cli.outcome_line): the version, then who
 #: played (a resync prints `vN table <status>: ...` instead).
 OUTCOME_LINE = re.compile(r"^v(\d+)\s+(?!table )\S[^:]*: ")
@@ -105,7 +106,7 @@ class Logged:
 
     status: int
     method: str
-    path: str
+    path: str  # with its query, if any
     upstreams: list[str]  # every replica it was sent to, in order; the last one answered
 
 
@@ -435,13 +436,6 @@ async def kill_a_feed_mid_match(
     raise AssertionError("three racks in a row ended on the break")
 
 
-@pytest.mark.xfail(
-    raises=ClientLeftMatch,
-    strict=True,
-    reason="`billiards play` does not reconnect: when the replica under its table feed dies, "
-    "server.client.GameClient.messages() ends, follow() ends and play exits 0 before the "
-    "match is over; its opponent then waits for a move that never comes",
-)
 async def test_a_match_goes_on_when_a_replica_dies(
     topology: Topology, players: StartPlayer
 ) -> None:
@@ -455,9 +449,14 @@ async def test_a_match_goes_on_when_a_replica_dies(
             assert response.status == 200, await response.text()
     passed_on = [e for e in topology.nginx.log() if dead in e.upstreams[:-1]]
     assert passed_on and all(e.status < 500 and e.upstreams[-1] != dead for e in passed_on)
-    # Both players finish the match through the remaining replicas.
+    # Both players finish the match through the remaining replicas, the feed that died
+    # reopened on one of them after the last message it had delivered.
     (code_a, lines_a, err_a), (code_b, lines_b, err_b) = await finish_match(ada, bob)
     assert (code_a, code_b) == (0, 0) and lines_a[-1] == lines_b[-1], err_a + err_b
+    resumed = await topology.nginx.logged(
+        lambda e: e.path.startswith("/sub/table-") and "last_event_id=" in e.path
+    )
+    assert resumed.status == 101 and resumed.upstreams[-1] != dead
 
 
 async def finish_match(*players: Cli) -> list[tuple[int, list[str], str]]:
