@@ -31,7 +31,7 @@ from server.api_models import (
 from server.background import running
 from server.channels import LOBBY, Publisher, player_channel
 from server.errors import ErrorCode, ServiceError
-from server.storage import Storage
+from server.storage import Pairing, Storage
 from server.tables import TableRecord
 
 log = logging.getLogger(__name__)
@@ -40,6 +40,9 @@ log = logging.getLogger(__name__)
 BATCH = 0.7
 #: Most tables a snapshot lists (newest first).
 LISTED = 100
+#: Seconds after a pairing during which a missing table is created by whoever asks (the
+#: request that paired them normally creates it within milliseconds); later it has expired.
+PAIRING_KEPT = 60.0
 
 
 def new_table_id() -> str:
@@ -99,20 +102,39 @@ class Lobby:
         partner_id = await self._storage.pair(create.game, player.id, table_id)
         if partner_id is None:
             return QuickStatus(status="waiting")
-        partner = await self._storage.get_player(partner_id)
-        if partner is None:
-            raise ServiceError(ErrorCode.UNAVAILABLE, "the paired player vanished")
-        record = tables.join(tables.new_table(table_id, create, partner, new_seed()), player)
-        await self._storage.create_table(record)
-        for who in (partner, player):
-            await self._publisher.publish(player_channel(who.id), PairedMessage(table=table_id))
-        self.changed()
+        pairing = await self._storage.pairing(player.id)
+        if pairing is None or pairing.table != table_id:
+            raise ServiceError(ErrorCode.UNAVAILABLE, "the pairing was undone meanwhile")
+        await self._seat(pairing)
         return QuickStatus(status="paired", table=table_id)
 
     async def quick_status(self, player: PlayerInfo) -> QuickStatus:
-        """Where the player's quick match stands; "paired" only once its table exists (the
-        partner's request creates it just after pairing)."""
-        status = await self._storage.quick_status(player.id)
-        if status.table is not None and await self._storage.get_table(status.table) is None:
-            return QuickStatus(status="waiting")
-        return status
+        """Where the player's quick match stands. A fresh pairing whose table is missing (the
+        request that paired them failed, or its replica died, before creating it) gets its
+        table from this request; an old one whose table is gone (expired) is over: idle."""
+        pairing = await self._storage.pairing(player.id)
+        if pairing is None:
+            return await self._storage.quick_status(player.id)
+        if await self._storage.get_table(pairing.table) is None:
+            if time.time() - pairing.at > PAIRING_KEPT:
+                return QuickStatus(status="idle")
+            await self._seat(pairing)
+        return QuickStatus(status="paired", table=pairing.table)
+
+    async def _seat(self, pairing: Pairing) -> None:
+        """Create the pairing's table, the first waiting player breaking, and tell both players
+        (unless another request created it meanwhile: that one tells them)."""
+        first, second = [await self._storage.get_player(who) for who in pairing.seats]
+        if first is None or second is None:
+            raise ServiceError(ErrorCode.UNAVAILABLE, "the paired player vanished")
+        create = TableCreate(game=pairing.game)
+        record = tables.join(tables.new_table(pairing.table, create, first, new_seed()), second)
+        try:
+            await self._storage.create_table(record)
+        except ValueError:
+            return
+        for who in (first, second):
+            await self._publisher.publish(
+                player_channel(who.id), PairedMessage(table=pairing.table)
+            )
+        self.changed()

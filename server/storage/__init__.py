@@ -45,6 +45,9 @@ What a backend must guarantee
    queue and records both as paired at the given table (returning the partner), or queues the
    caller; a player is in at most one queue once, never paired twice by one call sequence,
    and never paired with itself. `quick_status` and `cancel_quick` read and leave the queue.
+   A pairing records its game and both players in seat order (`pairing`), so that its table
+   can be created by whoever finds it missing (the replica that paired them may have died
+   before creating it).
 12. **Expiry.** `expire_tables(now, limit)` deletes from the live store at most `limit` tables
    whose last stored record's `expires` (server/tables.py: a finished table `KEEP_FINISHED`
    after its last change, an unfinished one `KEEP_IDLE`) is at or before `now`, earliest
@@ -193,8 +196,16 @@ class Storage(ABC):
         """Pair with a waiting player (returning its id, both now paired at `table_id`) or
         wait (None). Asking again while waiting for the same game changes nothing."""
 
+    async def quick_status(self, player_id: str) -> QuickStatus:
+        return parse_quick(await self._quick_value(player_id))
+
+    async def pairing(self, player_id: str) -> Pairing | None:
+        """The player's pairing, if paired: its table, game and players in seat order."""
+        return Pairing.parse(await self._quick_value(player_id))
+
     @abstractmethod
-    async def quick_status(self, player_id: str) -> QuickStatus: ...
+    async def _quick_value(self, player_id: str) -> str | None:
+        """The player's stored quick-match status (`waiting(...)` or `paired(...)`), if any."""
 
     @abstractmethod
     async def cancel_quick(self, player_id: str) -> bool:
@@ -205,13 +216,32 @@ class Storage(ABC):
         """Release connections."""
 
 
+@dataclass(frozen=True)
+class Pairing:
+    """Two players paired by quick match at a table (ids and names hold no ':')."""
+
+    table: str
+    game: str
+    at: float  # unix time of the pairing
+    seats: tuple[str, str]  # the player who waited first
+
+    @classmethod
+    def parse(cls, value: str | None) -> Pairing | None:
+        """The pairing a stored status records (`paired:<table>:<game>:<at>:<first>:<second>`)."""
+        kind, _, rest = (value or "").partition(":")
+        if kind != "paired":
+            return None
+        table, game, at, first, second = rest.split(":")
+        return cls(table, game, float(at), (first, second))
+
+
 def parse_quick(value: str | None) -> QuickStatus:
-    """A stored quick-match status (`waiting:<game>` or `paired:<table>`) as the API model."""
+    """A stored quick-match status (`waiting:<game>` or `paired:...`) as the API model."""
     if value is None:
         return QuickStatus(status="idle")
-    kind, _, rest = value.partition(":")
-    if kind == "paired":
-        return QuickStatus(status="paired", table=rest)
+    pairing = Pairing.parse(value)
+    if pairing is not None:
+        return QuickStatus(status="paired", table=pairing.table)
     return QuickStatus(status="waiting")
 
 
@@ -219,8 +249,9 @@ def waiting(game: str) -> str:
     return f"waiting:{game}"
 
 
-def paired(table_id: str) -> str:
-    return f"paired:{table_id}"
+def paired(table_id: str, game: str, at: float) -> str:
+    """The start of a paired status; the players follow, `<first>:<second>` (`Pairing`)."""
+    return f"paired:{table_id}:{game}:{at:.3f}:"
 
 
 def without_motion(entry: InputEntry) -> InputEntry:

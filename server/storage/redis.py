@@ -19,10 +19,12 @@ replica sends it. Keys, all prefixed `game:`:
 
 from __future__ import annotations
 
+import time
+
 import redis.asyncio as aioredis
 from redis.exceptions import RedisError
 
-from server.api_models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
+from server.api_models import BreakEntry, PlayerInfo, ReplayView
 from server.ratings import Rating
 from server.storage import (
     Accepted,
@@ -31,7 +33,6 @@ from server.storage import (
     Storage,
     StorageError,
     paired,
-    parse_quick,
     waiting,
     without_motion,
 )
@@ -91,7 +92,8 @@ redis.call('ZREMRANGEBYSCORE', KEYS[2], '-inf', '(' .. ARGV[3])
 return 1
 """
 
-# KEYS: queue, caller's status. ARGV: player, waiting status, paired status, status prefix.
+# KEYS: queue, caller's status. ARGV: player, waiting status, paired status (without its
+# players), status key prefix.
 _PAIR = """
 local status = redis.call('GET', KEYS[2])
 if status == ARGV[2] then return false end
@@ -102,8 +104,9 @@ while true do
   local partner = redis.call('LPOP', KEYS[1])
   if not partner then break end
   if partner ~= ARGV[1] and redis.call('GET', ARGV[4] .. partner) == ARGV[2] then
-    redis.call('SET', ARGV[4] .. partner, ARGV[3])
-    redis.call('SET', KEYS[2], ARGV[3])
+    local status = ARGV[3] .. partner .. ':' .. ARGV[1]  -- the players in seat order
+    redis.call('SET', ARGV[4] .. partner, status)
+    redis.call('SET', KEYS[2], status)
     return partner
   end
 end
@@ -349,11 +352,11 @@ class RedisStorage(Storage):
     # ----- quick match ------------------------------------------------------------------
     async def pair(self, game: str, player_id: str, table_id: str) -> str | None:
         keys = [f"{P}q:{game}", f"{P}qs:{player_id}"]
-        args = [player_id, waiting(game), paired(table_id), f"{P}qs:"]
+        args = [player_id, waiting(game), paired(table_id, game, time.time()), f"{P}qs:"]
         return await self._pair(keys=keys, args=args)
 
-    async def quick_status(self, player_id: str) -> QuickStatus:
-        return parse_quick(await self._redis.get(f"{P}qs:{player_id}"))
+    async def _quick_value(self, player_id: str) -> str | None:
+        return await self._redis.get(f"{P}qs:{player_id}")
 
     async def cancel_quick(self, player_id: str) -> bool:
         return bool(await self._cancel(keys=[f"{P}qs:{player_id}"], args=[player_id]))

@@ -25,6 +25,7 @@ import contextlib
 import itertools
 import secrets
 import sqlite3
+import time
 from collections import OrderedDict
 from collections.abc import AsyncIterator, Iterable
 from contextlib import asynccontextmanager
@@ -32,7 +33,7 @@ from pathlib import Path
 
 import aiosqlite
 
-from server.api_models import BreakEntry, OutcomeMessage, PlayerInfo, QuickStatus, ReplayView
+from server.api_models import BreakEntry, OutcomeMessage, PlayerInfo, ReplayView
 from server.ratings import Rating
 from server.storage import (
     Accepted,
@@ -40,7 +41,6 @@ from server.storage import (
     RateResult,
     Storage,
     paired,
-    parse_quick,
     waiting,
 )
 from server.tables import KEEP_IDLE, InputEntry, TableRecord
@@ -445,16 +445,17 @@ class SqliteStorage(Storage):
                     (player_id, waiting(game), next(self._queued)),
                 )
                 return None
+            status = f"{paired(table_id, game, time.time())}{partner[0]}:{player_id}"
             for who in (player_id, partner[0]):
                 await db.execute(
                     "INSERT OR REPLACE INTO quick VALUES (?, ?, ?)",
-                    (who, paired(table_id), next(self._queued)),
+                    (who, status, next(self._queued)),
                 )
             return partner[0]
 
-    async def quick_status(self, player_id: str) -> QuickStatus:
+    async def _quick_value(self, player_id: str) -> str | None:
         row = await self._one("SELECT status FROM quick WHERE player = ?", player_id)
-        return parse_quick(row[0] if row else None)
+        return row[0] if row else None
 
     async def cancel_quick(self, player_id: str) -> bool:
         async with self._transaction() as db:

@@ -8,7 +8,8 @@ import time
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server.lobby import BATCH
+from server import lobby
+from server.lobby import BATCH, new_table_id
 from tests.service.conftest import Watcher, register, service_of, watch
 
 
@@ -44,6 +45,46 @@ async def test_a_waiting_player_hears_of_its_pairing_and_can_cancel(server: Test
     _, cancelled = await cy.call("DELETE", "/api/quick", expect=200)
     assert cancelled["status"] == "cancelled"
     assert (await cy.call("GET", "/api/quick", expect=200))[1]["status"] == "idle"
+
+
+async def test_a_pairing_left_without_its_table_gets_one_from_the_next_status_request(
+    server: TestClient,
+) -> None:
+    """The replica that paired two players died before creating their table: the pairing is
+    stored, the table is not. Either player's next status request creates it (once, with the
+    first waiter breaking) and tells both; a pairing too old for that is over."""
+    storage = service_of(server).storage
+    ada, bob = [await register(server, name) for name in ("Ada", "Bob")]
+    inbox = await watch(server, f"player-{ada.info['id']}")
+    await ada.call("POST", "/api/quick", {"game": "nineball"}, 200)
+    table_id = new_table_id()
+    assert await storage.pair("nineball", bob.info["id"], table_id) == ada.info["id"]
+    assert await storage.get_table(table_id) is None
+
+    statuses = await asyncio.gather(
+        *(p.call("GET", "/api/quick", expect=200) for p in (bob, ada, bob))
+    )
+    assert {status["table"] for _, status in statuses} == {table_id}
+    view = await (await server.get(f"/api/tables/{table_id}")).json()
+    assert [seat["id"] for seat in view["seats"]] == [ada.info["id"], bob.info["id"]]
+    assert view["status"] == "playing" and view["game"] == "nineball"
+    assert await inbox.next() == {"kind": "paired", "protocol": 1, "table": table_id}
+
+
+async def test_a_pairing_whose_table_is_gone_is_over(
+    server: TestClient, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Long after a pairing its table may have expired: the players are idle, not waiting,
+    and no table comes back to life."""
+    monkeypatch.setattr(lobby, "PAIRING_KEPT", 0.0)
+    storage = service_of(server).storage
+    cy, dee = [await register(server, name) for name in ("Cy", "Dee")]
+    await cy.call("POST", "/api/quick", {"game": "snooker"}, 200)
+    table_id = new_table_id()
+    assert await storage.pair("snooker", dee.info["id"], table_id) == cy.info["id"]
+    for player in (cy, dee):
+        assert (await player.call("GET", "/api/quick", expect=200))[1]["status"] == "idle"
+    assert await storage.get_table(table_id) is None
 
 
 async def snapshots_until_quiet(lobby: Watcher) -> list[dict]:

@@ -130,6 +130,10 @@ async def test_pairing_is_atomic_under_one_hundred_simultaneous_requests(
     for p, q in pairs:
         assert statuses[p].status == statuses[q].status == "paired"
         assert statuses[p].table == statuses[q].table  # a table of exactly these two
+        pairing = await stores[1].pairing(p)
+        assert pairing == await stores[2].pairing(q)  # one record of it, for both
+        assert pairing is not None and pairing.table == statuses[p].table
+        assert pairing.seats == (q, p) and pairing.game == "nineball"  # the waiter first
     assert len({statuses[p].table for p in players}) == 50
 
 
