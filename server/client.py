@@ -325,16 +325,26 @@ class GameClient:
         data = await self.fetch("POST", f"/api/tables/{table_id}/heartbeat", retry=False)
         return PresenceMessage.model_validate_json(data)
 
+    async def claim(self, table_id: str) -> TableView:
+        """Claim the win from an opponent gone past the grace period (once: a resend of a
+        claim that landed is refused, the match being over)."""
+        data = await self.fetch("POST", f"/api/tables/{table_id}/claim", retry=False)
+        return TableView.model_validate_json(data)
+
     def heartbeats(self, table_id: str) -> AbstractAsyncContextManager[None]:
         """Send heartbeats every HEARTBEAT_INTERVAL while the context is open. They keep the
         player shown present and make the server look at the table, which is what plays an
-        input that a replica accepted and then died with (match.LEASE)."""
+        input that a replica accepted and then died with (match.LEASE). Each answer says
+        until when an absent player is waited for: past that, this player claims the win (the
+        server decides by its own clock; a claim it refuses waits for the next heartbeat)."""
 
         async def beat() -> None:
             while True:
                 # Best effort: the feed and the intents are what report real trouble.
                 with suppress(Refused, Unreachable):
-                    await self.heartbeat(table_id)
+                    presence = await self.heartbeat(table_id)
+                    if any(t is not None and t <= time.time() for t in presence.grace_until):
+                        await self.claim(table_id)
                 await asyncio.sleep(HEARTBEAT_INTERVAL)
 
         return running(beat)

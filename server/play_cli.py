@@ -36,14 +36,15 @@ if TYPE_CHECKING:
 def outcome_line(change: TableView | OutcomeMessage, names: list[str]) -> str:
     """One line per change: the version, who acted and what the referee ruled."""
     if isinstance(change, TableView):
-        return f"v{change.version:<4} table {change.status.value}: " + " vs ".join(names)
-    who = names[change.seat]
-    if change.void:
-        return f"v{change.version:<4} {who}: not played ({change.void})"
-    if change.decision is None:
-        return f"v{change.version:<4} {who}: chose {change.input.option}"  # type: ignore[union-attr]
-    line = f"v{change.version:<4} {who}: {change.decision.line()}"
-    if change.status is Status.OVER:
+        line = f"v{change.version:<4} table {change.status.value}: " + " vs ".join(names)
+    elif change.void:
+        line = f"v{change.version:<4} {names[change.seat]}: not played ({change.void})"
+    elif change.decision is None:
+        option = change.input.option  # type: ignore[union-attr]
+        line = f"v{change.version:<4} {names[change.seat]}: chose {option}"
+    else:
+        line = f"v{change.version:<4} {names[change.seat]}: {change.decision.line()}"
+    if change.status is Status.OVER and change.winner is not None:
         line += f" -- match over, {names[change.winner]} wins"
     return line
 

@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import asyncio
 import sys
+import time
 from pathlib import Path
 
 from aiohttp.test_utils import TestClient
 
 from server import refereeing
-from tests.service.conftest import WAIT_S
+from tests.service.conftest import WAIT_S, StartServer, register, service_of
 
 BILLIARDS = [sys.executable, "-m", "server.cli"]
 
@@ -69,3 +70,17 @@ async def test_submit_prints_the_verdict_or_the_reason(server: TestClient, tmp_p
     )
     code, lines, _ = await finish(await run(*args, "--score", str(best)))
     assert code == 0 and lines[0].startswith(f"accepted: nineball break of {best} by Cy")
+
+
+async def test_play_claims_the_win_from_an_opponent_gone_past_the_grace(
+    start_server: StartServer,
+) -> None:
+    server = await start_server(grace=0.0)
+    url = str(server.make_url("")).rstrip("/")
+    bob = await register(server, "Bob")
+    table = await bob.create("nineball")  # Bob breaks, and is gone before his first shot
+    await service_of(server).storage.heartbeat(table["id"], 0, time.time() - 1000)
+    ada = await run("play", url, "nineball", "--join", table["id"], "--name", "Ada")
+    code, lines, err = await finish(ada)
+    assert code == 0, err
+    assert lines[-1].endswith("table over: Bob vs Ada -- match over, Ada wins"), lines
