@@ -10,7 +10,8 @@ cdef dict _TABLES
 cdef Py_ssize_t _TABLES_KEPT
 
 cdef tuple _unpacked(object g, double R)
-cdef object _first_contact(tuple c, double gap, double contact, double horizon)
+cdef double _first_contact(roots.Quartic c, double gap, double contact,
+                          double horizon) except? -1.0
 cdef object _approach(list v, tuple contact)
 cdef object _coupling(tuple c, tuple e, list inv)
 cdef object _solve(list A, list u, list push)
@@ -59,13 +60,15 @@ cdef class Simulation:
                    ny=cython.double, g0=cython.double, g1=cython.double, c2=cython.double,
                    tx=cython.double, ty=cython.double, cx=cython.double, cy=cython.double,
                    px=cython.double, py=cython.double,
-                   s=cython.double, radius=cython.double)
+                   s=cython.double, radius=cython.double, t=cython.double,
+                   approaching=cython.bint)
     cdef tuple _table_contact(self, _Ball b, double horizon)
     @cython.locals(now=cython.double, xj=cython.double, yj=cython.double, vxj=cython.double,
-                   vyj=cython.double)
+                   vyj=cython.double, t=cython.double)
     cdef _predict_pair(self, Py_ssize_t i, Py_ssize_t j, _Ball bi, _Ball bj)
-    cdef object _contact_time(self, double dx, double dy, double vx, double vy, double ax,
-                              double ay, double contact, double horizon)
+    @cython.locals(c=roots.Quartic)
+    cdef double _contact_time(self, double dx, double dy, double vx, double vy, double ax,
+                              double ay, double contact, double horizon) except? -1.0
     @cython.locals(bi=_Ball, bj=_Ball, dx=cython.double, dy=cython.double, d=cython.double,
                    vn=cython.double)
     cpdef _collide_balls(self, Py_ssize_t i, Py_ssize_t j)

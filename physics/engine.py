@@ -254,10 +254,14 @@ class Simulation:
             c2 = 0.5 * (ax * nx + ay * ny)
             if g0 <= TOUCH_GAP:
                 approaching = g1 < -MIN_APPROACH
-                t = 0.0 if approaching else roots.first_return((g0, g1, c2), horizon, REST_DEPTH)
+                t = (
+                    0.0
+                    if approaching
+                    else roots.first_return((g0, g1, c2, 0.0, 0.0), horizon, REST_DEPTH)
+                )
             else:
                 t = roots.first_entry_quadratic(g0, g1, c2, horizon)
-            if t is None:
+            if t == math.inf:  # no contact
                 continue
             # Does the contact fall on this segment, not on the line beyond it?
             cx = x + (vx + 0.5 * ax * t) * t - px
@@ -268,7 +272,7 @@ class Simulation:
                 best = (now + t, "cushion", seg)
         for kind, circle, cx, cy, radius in self.circles:
             t = self._contact_time(x - cx, y - cy, vx, vy, ax, ay, radius, horizon)
-            if t is not None:
+            if t != math.inf:
                 horizon = t
                 best = (now + t, kind, circle)
         return best
@@ -288,18 +292,19 @@ class Simulation:
             self.diameter,
             min(bi.t_own, bj.t_own) - now,
         )
-        if t is not None:
+        if t != math.inf:
             self._push(now + t, "ball", i, j)
 
-    def _contact_time(self, dx, dy, vx, vy, ax, ay, contact, horizon) -> float | None:
-        """When d(t) = d + v t + a t^2 / 2 first comes within `contact` of the origin.
+    def _contact_time(self, dx, dy, vx, vy, ax, ay, contact, horizon) -> float:
+        """When d(t) = d + v t + a t^2 / 2 first comes within `contact` of the origin (inf:
+        not within `horizon`).
 
         (A ball's centre relative to a circle's, or one ball's relative to another's.) The
         chord test culls most candidates; the rest solve f = |d|^2 - contact^2, a quartic.
         """
         self.contacts_checked += 1
         if roots.path_misses(dx, dy, vx, vy, ax, ay, horizon, contact):
-            return None
+            return math.inf
         self.quartics_solved += 1
         c = (
             dx * dx + dy * dy - contact * contact,
@@ -814,8 +819,9 @@ def _unpacked(g: Geometry, R: float) -> tuple[list, list]:
     return entry[1], entry[2]
 
 
-def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
-    """First contact time from now for f = |d|^2 - contact^2 with coefficients c."""
+def _first_contact(c: roots.Poly, gap: float, contact: float, horizon: float) -> float:
+    """First contact time from now for f = |d|^2 - contact^2 with coefficients c (inf:
+    none within `horizon`)."""
     if gap <= TOUCH_GAP:
         if c[1] < -2.0 * contact * MIN_APPROACH:
             return 0.0  # touching and approaching: now
