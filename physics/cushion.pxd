@@ -41,15 +41,14 @@ cdef class _Impact:
     cdef State rk4(self, State y, State k1, double h)
     @cython.locals(s=cython.double, c=cython.double)
     cdef (double, double, double, double) slips(self, State y)
-    @cython.locals(s=cython.double, c=cython.double, grip_i=cython.double,
-                   grip_c=cython.double, eps2=cython.double, snap2=cython.double,
-                   best=cython.double, y0=cython.double, y1=cython.double, y2=cython.double,
-                   y3=cython.double, y4=cython.double, d0=cython.double, d1=cython.double,
-                   d2=cython.double, d3=cython.double, d4=cython.double, sx=cython.double,
-                   sy=cython.double, dx=cython.double, dy=cython.double, grip=cython.double,
-                   size=cython.double, closing=cython.double, turning=cython.double,
-                   contact=cython.int)
+    @cython.locals(s=cython.double, c=cython.double, best=cython.double, y0=cython.double,
+                   y1=cython.double, y2=cython.double, y3=cython.double, y4=cython.double,
+                   d0=cython.double, d1=cython.double, d2=cython.double, d3=cython.double,
+                   d4=cython.double)
     cdef (double, int) step_limit(self, State y, State d)
+    @cython.locals(size=cython.double, closing=cython.double, turning=cython.double)
+    cdef double _limit(self, double best, double sx, double sy, double dx, double dy,
+                       double grip) except? -1.0
     @cython.locals(s=cython.double, c=cython.double, x_i=cython.double, y_i=cython.double,
                    x_c=cython.double, y_c=cython.double, fix=cython.double, fiy=cython.double,
                    fcx=cython.double, fcy=cython.double)
