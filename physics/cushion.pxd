@@ -2,6 +2,7 @@
 cimport cython
 
 cimport physics.pymath as math
+cimport physics.motion as motion  # motion.V2, motion.V3: vectors as C structs of doubles
 
 cdef double _ZERO_SLIP, _SNAP_SLIP, _LAND, _STIFF, _TURN
 cdef int _MAX_STEPS
@@ -70,11 +71,12 @@ cpdef double _hermite(double f0, double f1, double m0, double m1, double u) exce
                candidates=list)
 cpdef double _hermite_peak(double f0, double f1, double m0, double m1) except? -1.0
 @cython.locals(nx=cython.double, ny=cython.double)
-cpdef tuple _to_cushion(object v, object w, object normal, double R)
+cdef (double, double, double, double, double) _to_cushion(motion.V2 v, motion.V3 w,
+                                                          motion.V2 normal, double R)
 @cython.locals(nx=cython.double, ny=cython.double)
-cpdef tuple _to_table(double vx, double vy, double Wx, double Wy, double Wz, object normal,
-                      double R)
-cpdef bint _leaving(object v, object normal) except -1
+cdef tuple _to_table(double vx, double vy, double Wx, double Wy, double Wz, motion.V2 normal,
+                     double R)
+cdef bint _leaving(motion.V2 v, motion.V2 normal) except -1
 @cython.locals(tol=cython.double, g=cython.double, slope=cython.double, newton=cython.double,
                u2=cython.double)
 cpdef double _hermite_root(double f0, double f1, double m0, double m1, double lo) except? -1.0

@@ -40,7 +40,7 @@ cdef class _Ball:
 
     @cython.locals(dt=cython.double)
     cpdef (double, double, double, double) at(self, double t)
-    @cython.locals(dt=cython.double)
+    @cython.locals(dt=cython.double, w=motion.V3, dw=motion.V3)
     cpdef advance(self, double t)
 
 
@@ -86,9 +86,11 @@ cdef class Simulation:
     cdef double _contact_time(self, double dx, double dy, double vx, double vy, double ax,
                               double ay, double contact, double horizon) except? -1.0
     @cython.locals(bi=_Ball, bj=_Ball, dx=cython.double, dy=cython.double, d=cython.double,
-                   vn=cython.double)
+                   nx=cython.double, ny=cython.double, vn=cython.double)
     cpdef _collide_balls(self, Py_ssize_t i, Py_ssize_t j)
-    @cython.locals(b=_Ball)
+    @cython.locals(b=_Ball, nx=cython.double, ny=cython.double, vx=cython.double,
+                   vy=cython.double, vn_in=cython.double, vn=cython.double, k=cython.double,
+                   vn_out=cython.double, ax=cython.double, ay=cython.double)
     cpdef _collide_cushion(self, Py_ssize_t i, tuple normal, str kind, object cushion,
                            object pocket)
     cdef object _settle(self, tuple seeds, tuple first)

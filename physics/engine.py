@@ -331,11 +331,12 @@ class Simulation:
         bj.advance(self.now)
         dx, dy = bj.x - bi.x, bj.y - bi.y
         d = math.hypot(dx, dy)
-        n = (dx / d, dy / d)
+        nx, ny = dx / d, dy / d
+        n = (nx, ny)
         va, wa, vb, wb = (bi.vx, bi.vy), bi.w, (bj.vx, bj.vy), bj.w
-        vn = (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1]
+        vn = (bi.vx - bj.vx) * nx + (bi.vy - bj.vy) * ny
         if vn < REST_SPEED or self.p.e_b * vn < REST_SPEED:
-            changed = self._settle((i, j), (0, 1, n[0], n[1]))
+            changed = self._settle((i, j), (0, 1, nx, ny))
             if changed is not None:
                 self._emit("ball_ball", (bi.name, bj.name))
                 self._predict(changed)
@@ -356,10 +357,12 @@ class Simulation:
     ) -> None:
         b = self.balls[i]
         b.advance(self.now)
-        v = (b.vx, b.vy)
-        vn_in = -(v[0] * normal[0] + v[1] * normal[1])
+        nx, ny = normal
+        vx, vy = b.vx, b.vy
+        v = (vx, vy)
+        vn_in = -(vx * nx + vy * ny)
         if vn_in < REST_SPEED:
-            changed = self._settle((i,), (0, -1, -normal[0], -normal[1]))
+            changed = self._settle((i,), (0, -1, -nx, -ny))
             if changed is not None:
                 self._emit(kind, (b.name,), cushion, pocket)
                 self._predict(changed)
@@ -367,24 +370,24 @@ class Simulation:
         if self.spin:
             v_new, w_new = self.cushion(v, b.w, normal, self.p, self.sin_theta, self.cushion_steps)
         else:
-            vn = v[0] * normal[0] + v[1] * normal[1]
+            vn = vx * nx + vy * ny
             k = (1.0 + self.p.e_c) * vn
-            v_new, w_new = (v[0] - k * normal[0], v[1] - k * normal[1]), b.w
+            v_new, w_new = (vx - k * nx, vy - k * ny), b.w
         if vn_in < REST_SPEED:
             # Resting against the cushion: no rebound, and a slide that presses the ball into
             # the cushion is finished at once (as between two balls, see _rest).
-            vn_out = v_new[0] * normal[0] + v_new[1] * normal[1]
-            v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
+            vn_out = v_new[0] * nx + v_new[1] * ny
+            v_new = (v_new[0] - vn_out * nx, v_new[1] - vn_out * ny)
             (ax, ay), state = self._accel(v_new, w_new)
-            if state == SLIDING and ax * normal[0] + ay * normal[1] < 0.0:
+            if state == SLIDING and ax * nx + ay * ny < 0.0:
                 v_new, w_new = self._finish_slide(v_new, w_new)
                 # The roll a slide ends in may still run into the cushion: the cushion takes
                 # that too, as a resting contact takes no rebound. Left to a real impact, a dead
                 # cushion (e_c = 0) would hand back a slide pressing in again, and each round
                 # would sink REST_DEPTH deeper.
-                vn_out = v_new[0] * normal[0] + v_new[1] * normal[1]
+                vn_out = v_new[0] * nx + v_new[1] * ny
                 if vn_out < 0.0:
-                    v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
+                    v_new = (v_new[0] - vn_out * nx, v_new[1] - vn_out * ny)
                     w_new = motion.rolling_spin(v_new, w_new[2], self.consts.R)
         self._set_motion(b, v_new, w_new)
         self._emit(kind, (b.name,), cushion, pocket)
