@@ -8,6 +8,7 @@ cimport physics.roots as roots
 
 
 cdef dict _TABLES, _MODELS_USED
+cdef double FAR_MARGIN
 cdef Py_ssize_t _TABLES_KEPT
 
 cdef tuple _unpacked(object g, double R)
@@ -77,10 +78,13 @@ cdef class Simulation:
                    tx=cython.double, ty=cython.double, cx=cython.double, cy=cython.double,
                    px=cython.double, py=cython.double,
                    s=cython.double, t=cython.double, approaching=cython.bint,
-                   rail=_Rail, circle=_Circle)
+                   rail=_Rail, circle=_Circle, reach=cython.double, dx=cython.double,
+                   dy=cython.double, far=cython.double)
     cdef tuple _table_contact(self, _Ball b, double horizon)
     @cython.locals(now=cython.double, xj=cython.double, yj=cython.double, vxj=cython.double,
-                   vyj=cython.double, t=cython.double)
+                   vyj=cython.double, t=cython.double, dx=cython.double, dy=cython.double,
+                   dvx=cython.double, dvy=cython.double, dax=cython.double, day=cython.double,
+                   horizon=cython.double, reach=cython.double, far=cython.double)
     cdef _predict_pair(self, Py_ssize_t i, Py_ssize_t j, _Ball bi, _Ball bj)
     @cython.locals(c=roots.Quartic)
     cdef double _contact_time(self, double dx, double dy, double vx, double vy, double ax,
