@@ -57,6 +57,7 @@ cdef class Simulation:
     cpdef Py_ssize_t work(self)
     cpdef tuple run_records(self)
     cdef _start(self)
+    @cython.locals(b=_Ball, end=cython.double)
     cdef tuple _records(self)
     @cython.locals(state=str, consts=motion.Constants, dwx=cython.double, dwy=cython.double,
                    dwz=cython.double)
@@ -69,7 +70,7 @@ cdef class Simulation:
                    earlier=tuple)
     cdef _predict(self, tuple changed)
     @cython.locals(b=_Ball, now=cython.double, t=cython.double, t_spin=cython.double,
-                   first=tuple, contact=tuple, consts=motion.Constants)
+                   state=str, kind=str, contact=tuple, consts=motion.Constants)
     cdef _predict_own(self, Py_ssize_t i)
     @cython.locals(R=cython.double, now=cython.double, x=cython.double, y=cython.double,
                    vx=cython.double, vy=cython.double, ax=cython.double, ay=cython.double,

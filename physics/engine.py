@@ -233,20 +233,21 @@ class Simulation:
         bounds the search for the others, which is what makes the distance culling bite.
         """
         b = self.balls[i]
-        consts, now = self.consts, self.now
+        consts, now, state = self.consts, self.now, b.state
         b.t_own = math.inf
-        if b.state in (SLIDING, ROLLING, SPINNING):
-            t = now + motion.transition_time(b.state, (b.vx, b.vy), b.w, consts)
-            first = (t, "motion", None)
-            if b.state != SPINNING:
-                contact = self._table_contact(b, first[0] - now)
-                if contact[0] < first[0]:
-                    first = contact
-                t_spin = now + motion.spin_stop_time(b.w, consts)
-                if t_spin < first[0]:
-                    self._push(t_spin, "spin", i)
-            b.t_own = first[0] if b.state != SPINNING else math.inf
-            self._push(first[0], first[1], i, -1, first[2])
+        if state not in (SLIDING, ROLLING, SPINNING):
+            return
+        t = now + motion.transition_time(state, (b.vx, b.vy), b.w, consts)
+        kind, data = "motion", None
+        if state != SPINNING:  # (a spinning ball stays where it is: its path holds for ever)
+            contact = self._table_contact(b, t - now)
+            if contact[0] < t:
+                t, kind, data = contact
+            t_spin = now + motion.spin_stop_time(b.w, consts)
+            if t_spin < t:
+                self._push(t_spin, "spin", i)
+            b.t_own = t
+        self._push(t, kind, i, -1, data)
 
     def _table_contact(self, b: _Ball, horizon: float) -> tuple[float, str, object]:
         """The earliest cushion, jaw or pocket contact of a moving ball within `horizon`."""
