@@ -100,26 +100,33 @@ def _refine(c: Poly, dc: Poly, lo: float, hi: float) -> float:
     return min(t, hi)
 
 
-def critical_points(dc: Poly, hi: float) -> list[float]:
-    """Sorted roots strictly inside (0, hi) of the derivative `dc` of a polynomial (where it
-    turns: the callers have the derivative already, for their Newton steps)."""
+def _knots(dc: Poly, lo: float, hi: float) -> list[float]:
+    """lo, the roots of the derivative `dc` of a polynomial inside (0, hi) and past lo in
+    order, and hi: the ends of the pieces of [lo, hi] on which the polynomial is monotone.
+    (The callers have the derivative already, for their Newton steps.)"""
+    knots = [lo]
     degree = _degree(dc)
-    if degree == 0:
-        return []
     if degree == 1:
-        pts = [-dc[0] / dc[1]]
+        turn = -dc[0] / dc[1]
+        if 0.0 < turn < hi and turn > lo:
+            knots.append(turn)
     elif degree == 2:
         r1, r2 = _quadratic_roots(dc[0], dc[1], dc[2])
-        pts = [r1, r2]
-    else:
-        pts = all_roots(dc, hi)
-    return [p for p in pts if 0.0 < p < hi]
+        for turn in (r1, r2):
+            if 0.0 < turn < hi and turn > lo:
+                knots.append(turn)
+    elif degree > 2:
+        for turn in all_roots(dc, hi):
+            if 0.0 < turn < hi and turn > lo:
+                knots.append(turn)
+    knots.append(hi)
+    return knots
 
 
 def all_roots(c: Poly, hi: float) -> list[float]:
     """Every root of the polynomial `c` in (0, hi), sorted (by recursion on the degree)."""
     dc = _derivative(c)
-    knots = [0.0, *critical_points(dc, hi), hi]
+    knots = _knots(dc, 0.0, hi)
     roots = []
     f_prev = _horner(c, 0.0)
     for k in range(len(knots) - 1):  # each piece between knots, in order
@@ -183,7 +190,7 @@ def first_entry(c: Poly, hi: float, skip: float = 0.0) -> float:
     if _horner(c, skip) <= 0.0:
         return skip
     dc = _derivative(c)
-    knots = [skip, *[p for p in critical_points(dc, hi) if p > skip], hi]
+    knots = _knots(dc, skip, hi)
     for k in range(len(knots) - 1):  # each piece between knots, in order
         a, b = knots[k], knots[k + 1]
         if _horner(c, b) <= 0.0:
@@ -202,7 +209,7 @@ def first_return(c: Poly, hi: float, depth: float) -> float:
     c0, c1, c2, c3, c4 = c
     floor = min(c0, 0.0) - depth
     dc = _derivative(c)
-    knots = [0.0, *critical_points(dc, hi), hi]
+    knots = _knots(dc, 0.0, hi)
     apart = False
     for k in range(len(knots) - 1):  # each piece between knots, in order
         a, b = knots[k], knots[k + 1]
