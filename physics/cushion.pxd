@@ -68,7 +68,7 @@ cpdef tuple mathavan(object v, object w, object normal, object p, double sin_the
 cpdef double _hermite(double f0, double f1, double m0, double m1, double u) except? -1.0
 @cython.locals(a=cython.double, b=cython.double, disc=cython.double, q=cython.double,
                best=cython.double, peak=cython.double, u=cython.double, value=cython.double,
-               candidates=list)
+               r1=cython.double, r2=cython.double)
 cpdef double _hermite_peak(double f0, double f1, double m0, double m1) except? -1.0
 @cython.locals(nx=cython.double, ny=cython.double)
 cdef (double, double, double, double, double) _to_cushion(motion.V2 v, motion.V3 w,

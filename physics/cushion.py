@@ -426,17 +426,18 @@ def _hermite_peak(f0: float, f1: float, m0: float, m1: float) -> float:
     """Where in [0, 1] the interpolant is largest (its slopes are m0 >= 0 >= m1)."""
     a = 6.0 * (f0 - f1) + 3.0 * (m0 + m1)
     b = 6.0 * (f1 - f0) - 4.0 * m0 - 2.0 * m1
-    candidates = [0.0, 1.0]
+    # The ends and where the slope is zero (NaN in place of a root that is not: never in [0, 1]).
+    r1 = r2 = math.nan
     disc = b * b - 4.0 * a * m0
     if disc >= 0.0:
         # The stable pair of roots of a u^2 + b u + m0 (a is often all but zero).
         q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
         if q != 0.0:
-            candidates.append(m0 / q)
+            r1 = m0 / q
         if a != 0.0:
-            candidates.append(q / a)
+            r2 = q / a
     best, peak = 0.0, _hermite(f0, f1, m0, m1, 0.0)
-    for u in candidates[1:]:  # the first largest, as max() finds it
+    for u in (1.0, r1, r2):  # after 0, in order: the first largest, as max() finds it
         if 0.0 <= u <= 1.0:
             value = _hermite(f0, f1, m0, m1, u)
             if value > peak:
