@@ -62,9 +62,10 @@ LCP_TOL = 1e-12
 MAX_EVENTS = 2_000
 MAX_WORK = 40_000
 CUSHION_STEP_WORK = 2
-#: A circle (jaw or pocket) farther from a moving ball than it can travel before its next event
-#: of its own is culled by a distance alone (see _table_contact), where its squared distance
-#: exceeds the squared reach by this fraction: far beyond any rounding in either test.
+#: A jaw, pocket or other ball farther from a moving ball than the two can close in before the
+#: path's horizon is culled by its distance alone (see _table_contact and _predict_pair) where
+#: its squared distance exceeds the squared reach by this fraction: far beyond any rounding
+#: in either that test or the chord test it stands in for.
 FAR_MARGIN = 1e-6
 
 
