@@ -2,6 +2,7 @@
 cimport cython
 
 cimport physics.pymath as math
+cimport physics.motion as motion  # motion.V2, motion.V3: vectors as C structs of doubles
 
 cdef double _ZERO_SLIP, _SNAP_SLIP, _LAND, _STIFF, _TURN
 cdef int _MAX_STEPS
@@ -41,15 +42,14 @@ cdef class _Impact:
     cdef State rk4(self, State y, State k1, double h)
     @cython.locals(s=cython.double, c=cython.double)
     cdef (double, double, double, double) slips(self, State y)
-    @cython.locals(s=cython.double, c=cython.double, grip_i=cython.double,
-                   grip_c=cython.double, eps2=cython.double, snap2=cython.double,
-                   best=cython.double, y0=cython.double, y1=cython.double, y2=cython.double,
-                   y3=cython.double, y4=cython.double, d0=cython.double, d1=cython.double,
-                   d2=cython.double, d3=cython.double, d4=cython.double, sx=cython.double,
-                   sy=cython.double, dx=cython.double, dy=cython.double, grip=cython.double,
-                   size=cython.double, closing=cython.double, turning=cython.double,
-                   contact=cython.int)
+    @cython.locals(s=cython.double, c=cython.double, best=cython.double, y0=cython.double,
+                   y1=cython.double, y2=cython.double, y3=cython.double, y4=cython.double,
+                   d0=cython.double, d1=cython.double, d2=cython.double, d3=cython.double,
+                   d4=cython.double)
     cdef (double, int) step_limit(self, State y, State d)
+    @cython.locals(size=cython.double, closing=cython.double, turning=cython.double)
+    cdef double _limit(self, double best, double sx, double sy, double dx, double dy,
+                       double grip) except? -1.0
     @cython.locals(s=cython.double, c=cython.double, x_i=cython.double, y_i=cython.double,
                    x_c=cython.double, y_c=cython.double, fix=cython.double, fiy=cython.double,
                    fcx=cython.double, fcy=cython.double)
@@ -68,14 +68,15 @@ cpdef tuple mathavan(object v, object w, object normal, object p, double sin_the
 cpdef double _hermite(double f0, double f1, double m0, double m1, double u) except? -1.0
 @cython.locals(a=cython.double, b=cython.double, disc=cython.double, q=cython.double,
                best=cython.double, peak=cython.double, u=cython.double, value=cython.double,
-               candidates=list)
+               r1=cython.double, r2=cython.double)
 cpdef double _hermite_peak(double f0, double f1, double m0, double m1) except? -1.0
 @cython.locals(nx=cython.double, ny=cython.double)
-cpdef tuple _to_cushion(object v, object w, object normal, double R)
+cdef (double, double, double, double, double) _to_cushion(motion.V2 v, motion.V3 w,
+                                                          motion.V2 normal, double R)
 @cython.locals(nx=cython.double, ny=cython.double)
-cpdef tuple _to_table(double vx, double vy, double Wx, double Wy, double Wz, object normal,
-                      double R)
-cpdef bint _leaving(object v, object normal) except -1
+cdef tuple _to_table(double vx, double vy, double Wx, double Wy, double Wz, motion.V2 normal,
+                     double R)
+cdef bint _leaving(motion.V2 v, motion.V2 normal) except -1
 @cython.locals(tol=cython.double, g=cython.double, slope=cython.double, newton=cython.double,
                u2=cython.double)
 cpdef double _hermite_root(double f0, double f1, double m0, double m1, double lo) except? -1.0

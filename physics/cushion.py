@@ -290,30 +290,41 @@ class _Impact:
         (Coulomb friction is stiff where a slip is small). A slip closing on zero that is
         already too small to matter is set to zero rather than followed round its last turns.
         """
-        s, c, grip_i, grip_c = self.s, self.c, self.grip_i, self.grip_c
-        eps2, snap2 = self.eps2, self.snap2
-        best = math.inf
+        s, c = self.s, self.c
         y0, y1, y2, y3, y4 = y[0], y[1], y[2], y[3], y[4]
         d0, d1, d2, d3, d4 = d[0], d[1], d[2], d[3], d[4]
-        for contact, sx, sy, dx, dy, grip in (
-            (0, y0 + s * y3 - c * y4, y2 - s * y1, d0 + s * d3 - c * d4, d2 - s * d1, grip_i),
-            (1, y0 - y3, y1 + y2, d0 - d3, d1 + d2, grip_c),
-        ):
-            size = sx * sx + sy * sy
-            if size <= eps2:
-                continue
-            closing = -(sx * dx + sy * dy)
-            if closing > 0.0:
-                if size < snap2 and grip > 0.0:
-                    return 0.0, contact
-                if _LAND * size < best * closing:
-                    best = _LAND * size / closing
-            turning = abs(sx * dy - sy * dx)
-            if _TURN * size < best * turning:
-                best = _TURN * size / turning
-            if grip > 0.0 and _STIFF * math.sqrt(size) < best * grip:
-                best = _STIFF * math.sqrt(size) / grip
+        best = math.inf
+        best = self._limit(
+            best, y0 + s * y3 - c * y4, y2 - s * y1, d0 + s * d3 - c * d4, d2 - s * d1, self.grip_i
+        )
+        if best < 0.0:
+            return 0.0, 0
+        best = self._limit(best, y0 - y3, y1 + y2, d0 - d3, d1 + d2, self.grip_c)
+        if best < 0.0:
+            return 0.0, 1
         return best, -1
+
+    def _limit(self, best: float, sx: float, sy: float, dx: float, dy: float, grip: float) -> float:
+        """`step_limit` for one contact, whose slip (sx, sy) changes at (dx, dy) per unit
+        impulse and whose friction can change it at `grip`: `best` lowered to what it allows,
+        or -1 where the slip is to be set to zero instead. (A method called once per contact,
+        not a loop over a tuple of the two: the compiled kernel then keeps them in C doubles.)
+        """
+        size = sx * sx + sy * sy
+        if size <= self.eps2:
+            return best
+        closing = -(sx * dx + sy * dy)
+        if closing > 0.0:
+            if size < self.snap2 and grip > 0.0:
+                return -1.0
+            if _LAND * size < best * closing:
+                best = _LAND * size / closing
+        turning = abs(sx * dy - sy * dx)
+        if _TURN * size < best * turning:
+            best = _TURN * size / turning
+        if grip > 0.0 and _STIFF * math.sqrt(size) < best * grip:
+            best = _STIFF * math.sqrt(size) / grip
+        return best
 
     def zero_slip(self, y: tuple[float, ...], contact: int) -> tuple[float, ...]:
         """Cancel the slip of a contact that has (all but) reached zero, with the impulse that
@@ -415,17 +426,18 @@ def _hermite_peak(f0: float, f1: float, m0: float, m1: float) -> float:
     """Where in [0, 1] the interpolant is largest (its slopes are m0 >= 0 >= m1)."""
     a = 6.0 * (f0 - f1) + 3.0 * (m0 + m1)
     b = 6.0 * (f1 - f0) - 4.0 * m0 - 2.0 * m1
-    candidates = [0.0, 1.0]
+    # The ends and where the slope is zero (NaN in place of a root that is not: never in [0, 1]).
+    r1 = r2 = math.nan
     disc = b * b - 4.0 * a * m0
     if disc >= 0.0:
         # The stable pair of roots of a u^2 + b u + m0 (a is often all but zero).
         q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
         if q != 0.0:
-            candidates.append(m0 / q)
+            r1 = m0 / q
         if a != 0.0:
-            candidates.append(q / a)
+            r2 = q / a
     best, peak = 0.0, _hermite(f0, f1, m0, m1, 0.0)
-    for u in candidates[1:]:  # the first largest, as max() finds it
+    for u in (1.0, r1, r2):  # after 0, in order: the first largest, as max() finds it
         if 0.0 <= u <= 1.0:
             value = _hermite(f0, f1, m0, m1, u)
             if value > peak:

@@ -22,7 +22,7 @@ from physics.ball_ball import BALL_BALL_MODELS
 from physics.cushion import CUSHION_MODELS
 from physics.motion import POCKETED, ROLLING, SLIDING, SPINNING, STATIONARY
 from physics.scene import CONTACT_TOLERANCE, Scene
-from physics.tables import Geometry
+from physics.tables import Geometry, Jaw, Pocket, Segment
 from physics.trajectory import ModelsUsed, Shot
 
 #: A contact within this gap (m) is a touching contact, decided at the present.
@@ -62,6 +62,11 @@ LCP_TOL = 1e-12
 MAX_EVENTS = 2_000
 MAX_WORK = 40_000
 CUSHION_STEP_WORK = 2
+#: A jaw, pocket or other ball farther from a moving ball than the two can close in before the
+#: path's horizon is culled by its distance alone (see _table_contact and _predict_pair) where
+#: its squared distance exceeds the squared reach by this fraction: far beyond any rounding
+#: in either that test or the chord test it stands in for.
+FAR_MARGIN = 1e-6
 
 
 class SimulationError(RuntimeError):
@@ -130,6 +135,8 @@ class Simulation:
     def __init__(self, scene: Scene) -> None:
         self.scene = scene
         self.p = scene.params
+        #: The constants of the balls' motion, read from the params once (physics.motion).
+        self.consts = motion.Constants(scene.params)
         self.models = scene.models
         self.spin = scene.models.spin
         self.ball_ball = BALL_BALL_MODELS[
@@ -163,10 +170,10 @@ class Simulation:
 
     def _set_motion(self, b: _Ball, v: tuple[float, float], w: tuple[float, float, float]) -> None:
         """Give ball b a new velocity and spin at the present and choose its motion state."""
-        p = self.p
+        consts = self.consts
         if not self.spin:
-            w = motion.rolling_spin(v, 0.0, p.R)
-        state = motion.classify(v, w, p)
+            w = motion.rolling_spin(v, 0.0, consts.R)
+        state = motion.classify(v, w, consts)
         if state in (STATIONARY, SPINNING):
             # Below EPS_SPEED the ball is at rest: a leftover crawl (say 1e-10 m/s) kept in its
             # segment would carry it on at constant speed with no event to stop it.
@@ -175,7 +182,8 @@ class Simulation:
         b.vx, b.vy = v
         b.w = w
         b.state = state
-        (b.ax, b.ay), b.dw = motion.accelerations(b.state, v, w, p)
+        b.ax, b.ay, dwx, dwy, dwz = motion.accelerations(b.state, v, w, consts)
+        b.dw = (dwx, dwy, dwz)
         b.version += 1
         self._record(b)
 
@@ -226,27 +234,30 @@ class Simulation:
         bounds the search for the others, which is what makes the distance culling bite.
         """
         b = self.balls[i]
-        p, now = self.p, self.now
+        consts, now, state = self.consts, self.now, b.state
         b.t_own = math.inf
-        if b.state in (SLIDING, ROLLING, SPINNING):
-            first = (now + motion.transition_time(b.state, (b.vx, b.vy), b.w, p), "motion", None)
-            if b.state != SPINNING:
-                contact = self._table_contact(b, first[0] - now)
-                if contact[0] < first[0]:
-                    first = contact
-                t_spin = now + motion.spin_stop_time(b.w, p)
-                if t_spin < first[0]:
-                    self._push(t_spin, "spin", i)
-            b.t_own = first[0] if b.state != SPINNING else math.inf
-            self._push(first[0], first[1], i, -1, first[2])
+        if state not in (SLIDING, ROLLING, SPINNING):
+            return
+        t = now + motion.transition_time(state, (b.vx, b.vy), b.w, consts)
+        kind, data = "motion", None
+        if state != SPINNING:  # (a spinning ball stays where it is: its path holds for ever)
+            contact = self._table_contact(b, t - now)
+            if contact[0] < t:
+                t, kind, data = contact
+            t_spin = now + motion.spin_stop_time(b.w, consts)
+            if t_spin < t:
+                self._push(t_spin, "spin", i)
+            b.t_own = t
+        self._push(t, kind, i, -1, data)
 
     def _table_contact(self, b: _Ball, horizon: float) -> tuple[float, str, object]:
         """The earliest cushion, jaw or pocket contact of a moving ball within `horizon`."""
-        R, now = self.p.R, self.now
+        R, now = self.consts.R, self.now
         best: tuple[float, str, object] = (math.inf, "", None)
         x, y, vx, vy, ax, ay = b.x, b.y, b.vx, b.vy, b.ax, b.ay
         speed, accel = math.hypot(vx, vy), math.hypot(ax, ay)
-        for seg, px, py, nx, ny, tx, ty in self.rails:
+        for rail in self.rails:
+            px, py, nx, ny = rail.px, rail.py, rail.nx, rail.ny
             g0 = (x - px) * nx + (y - py) * ny - R
             if g0 > (speed + 0.5 * accel * horizon) * horizon:
                 continue
@@ -254,23 +265,39 @@ class Simulation:
             c2 = 0.5 * (ax * nx + ay * ny)
             if g0 <= TOUCH_GAP:
                 approaching = g1 < -MIN_APPROACH
-                t = 0.0 if approaching else roots.first_return((g0, g1, c2), horizon, REST_DEPTH)
+                t = (
+                    0.0
+                    if approaching
+                    else roots.first_return((g0, g1, c2, 0.0, 0.0), horizon, REST_DEPTH)
+                )
             else:
                 t = roots.first_entry_quadratic(g0, g1, c2, horizon)
-            if t is None:
+            if t == math.inf:  # no contact
                 continue
             # Does the contact fall on this segment, not on the line beyond it?
             cx = x + (vx + 0.5 * ax * t) * t - px
             cy = y + (vy + 0.5 * ay * t) * t - py
+            tx, ty = rail.tx, rail.ty
             s = (cx * tx + cy * ty) / (tx * tx + ty * ty)
             if 0.0 <= s <= 1.0:
                 horizon = t
-                best = (now + t, "cushion", seg)
-        for kind, circle, cx, cy, radius in self.circles:
-            t = self._contact_time(x - cx, y - cy, vx, vy, ax, ay, radius, horizon)
-            if t is not None:
+                best = (now + t, "cushion", rail.segment)
+        # The chord test of _contact_time (roots.path_misses) culls a circle whose distance from
+        # the ball's path, a chord less its sag |a| h^2 / 8, exceeds its radius; every point of
+        # the chord is within (|v| + |a| h / 2) h of the ball. So a circle farther than its
+        # radius and (|v| + 5/8 |a| h) h is culled by that test too: culled here by a distance,
+        # and counted as looked at all the same.
+        reach = (speed + 0.625 * accel * horizon) * horizon
+        for circle in self.circles:
+            dx, dy = x - circle.cx, y - circle.cy
+            far = circle.radius + reach
+            if dx * dx + dy * dy > far * far * (1.0 + FAR_MARGIN):
+                self.contacts_checked += 1
+                continue
+            t = self._contact_time(dx, dy, vx, vy, ax, ay, circle.radius, horizon)
+            if t != math.inf:
                 horizon = t
-                best = (now + t, kind, circle)
+                best = (now + t, circle.kind, circle.piece)
         return best
 
     def _predict_pair(self, i: int, j: int, bi: _Ball, bj: _Ball) -> None:
@@ -278,28 +305,30 @@ class Simulation:
             return
         now = self.now
         xj, yj, vxj, vyj = bj.at(now)
-        t = self._contact_time(
-            xj - bi.x,
-            yj - bi.y,
-            vxj - bi.vx,
-            vyj - bi.vy,
-            bj.ax - bi.ax,
-            bj.ay - bi.ay,
-            self.diameter,
-            min(bi.t_own, bj.t_own) - now,
-        )
-        if t is not None:
+        dx, dy, dvx, dvy = xj - bi.x, yj - bi.y, vxj - bi.vx, vyj - bi.vy
+        dax, day = bj.ax - bi.ax, bj.ay - bi.ay
+        horizon = min(bi.t_own, bj.t_own) - now
+        # As for a circle in _table_contact, with the relative motion's reach bounded by the
+        # sums of its components' sizes, which take no square roots.
+        reach = (abs(dvx) + abs(dvy) + 0.625 * (abs(dax) + abs(day)) * horizon) * horizon
+        far = self.diameter + reach
+        if dx * dx + dy * dy > far * far * (1.0 + FAR_MARGIN):
+            self.contacts_checked += 1
+            return
+        t = self._contact_time(dx, dy, dvx, dvy, dax, day, self.diameter, horizon)
+        if t != math.inf:
             self._push(now + t, "ball", i, j)
 
-    def _contact_time(self, dx, dy, vx, vy, ax, ay, contact, horizon) -> float | None:
-        """When d(t) = d + v t + a t^2 / 2 first comes within `contact` of the origin.
+    def _contact_time(self, dx, dy, vx, vy, ax, ay, contact, horizon) -> float:
+        """When d(t) = d + v t + a t^2 / 2 first comes within `contact` of the origin (inf:
+        not within `horizon`).
 
         (A ball's centre relative to a circle's, or one ball's relative to another's.) The
         chord test culls most candidates; the rest solve f = |d|^2 - contact^2, a quartic.
         """
         self.contacts_checked += 1
         if roots.path_misses(dx, dy, vx, vy, ax, ay, horizon, contact):
-            return None
+            return math.inf
         self.quartics_solved += 1
         c = (
             dx * dx + dy * dy - contact * contact,
@@ -318,11 +347,12 @@ class Simulation:
         bj.advance(self.now)
         dx, dy = bj.x - bi.x, bj.y - bi.y
         d = math.hypot(dx, dy)
-        n = (dx / d, dy / d)
+        nx, ny = dx / d, dy / d
+        n = (nx, ny)
         va, wa, vb, wb = (bi.vx, bi.vy), bi.w, (bj.vx, bj.vy), bj.w
-        vn = (va[0] - vb[0]) * n[0] + (va[1] - vb[1]) * n[1]
+        vn = (bi.vx - bj.vx) * nx + (bi.vy - bj.vy) * ny
         if vn < REST_SPEED or self.p.e_b * vn < REST_SPEED:
-            changed = self._settle((i, j), (0, 1, n[0], n[1]))
+            changed = self._settle((i, j), (0, 1, nx, ny))
             if changed is not None:
                 self._emit("ball_ball", (bi.name, bj.name))
                 self._predict(changed)
@@ -343,10 +373,12 @@ class Simulation:
     ) -> None:
         b = self.balls[i]
         b.advance(self.now)
-        v = (b.vx, b.vy)
-        vn_in = -(v[0] * normal[0] + v[1] * normal[1])
+        nx, ny = normal
+        vx, vy = b.vx, b.vy
+        v = (vx, vy)
+        vn_in = -(vx * nx + vy * ny)
         if vn_in < REST_SPEED:
-            changed = self._settle((i,), (0, -1, -normal[0], -normal[1]))
+            changed = self._settle((i,), (0, -1, -nx, -ny))
             if changed is not None:
                 self._emit(kind, (b.name,), cushion, pocket)
                 self._predict(changed)
@@ -354,25 +386,25 @@ class Simulation:
         if self.spin:
             v_new, w_new = self.cushion(v, b.w, normal, self.p, self.sin_theta, self.cushion_steps)
         else:
-            vn = v[0] * normal[0] + v[1] * normal[1]
+            vn = vx * nx + vy * ny
             k = (1.0 + self.p.e_c) * vn
-            v_new, w_new = (v[0] - k * normal[0], v[1] - k * normal[1]), b.w
+            v_new, w_new = (vx - k * nx, vy - k * ny), b.w
         if vn_in < REST_SPEED:
             # Resting against the cushion: no rebound, and a slide that presses the ball into
             # the cushion is finished at once (as between two balls, see _rest).
-            vn_out = v_new[0] * normal[0] + v_new[1] * normal[1]
-            v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
+            vn_out = v_new[0] * nx + v_new[1] * ny
+            v_new = (v_new[0] - vn_out * nx, v_new[1] - vn_out * ny)
             (ax, ay), state = self._accel(v_new, w_new)
-            if state == SLIDING and ax * normal[0] + ay * normal[1] < 0.0:
+            if state == SLIDING and ax * nx + ay * ny < 0.0:
                 v_new, w_new = self._finish_slide(v_new, w_new)
                 # The roll a slide ends in may still run into the cushion: the cushion takes
                 # that too, as a resting contact takes no rebound. Left to a real impact, a dead
                 # cushion (e_c = 0) would hand back a slide pressing in again, and each round
                 # would sink REST_DEPTH deeper.
-                vn_out = v_new[0] * normal[0] + v_new[1] * normal[1]
+                vn_out = v_new[0] * nx + v_new[1] * ny
                 if vn_out < 0.0:
-                    v_new = (v_new[0] - vn_out * normal[0], v_new[1] - vn_out * normal[1])
-                    w_new = motion.rolling_spin(v_new, w_new[2], self.p.R)
+                    v_new = (v_new[0] - vn_out * nx, v_new[1] - vn_out * ny)
+                    w_new = motion.rolling_spin(v_new, w_new[2], self.consts.R)
         self._set_motion(b, v_new, w_new)
         self._emit(kind, (b.name,), cushion, pocket)
         self._predict((i,))
@@ -442,18 +474,20 @@ class Simulation:
 
     def _touching(self, k, members, pos, v, w, contacts):
         """Add member k's resting contacts not yet in `contacts` (and their balls to members)."""
-        R = self.p.R
+        R = self.consts.R
         x, y = pos[k]
         vx, vy = v[k]
         fixed = [(nx, ny) for a, b, nx, ny in contacts if a == k and b < 0]
-        for _, px, py, nx, ny, tx, ty in self.rails:
+        for rail in self.rails:
+            px, py, nx, ny, tx, ty = rail.px, rail.py, rail.nx, rail.ny, rail.tx, rail.ty
             gap = (x - px) * nx + (y - py) * ny - R
             s = ((x - px) * tx + (y - py) * ty) / (tx * tx + ty * ty)
             if abs(gap) <= CLUSTER_GAP and 0.0 <= s <= 1.0:
                 self._add_fixed(k, -nx, -ny, vx, vy, fixed, contacts)
-        for kind, _, cx, cy, radius in self.circles:
+        for circle in self.circles:
+            cx, cy = circle.cx, circle.cy
             d = math.hypot(x - cx, y - cy)
-            if kind == "jaw" and abs(d - radius) <= CLUSTER_GAP:
+            if circle.kind == "jaw" and abs(d - circle.radius) <= CLUSTER_GAP:
                 self._add_fixed(k, (cx - x) / d, (cy - y) / d, vx, vy, fixed, contacts)
         for i, other in enumerate(self.balls):
             if (
@@ -500,9 +534,10 @@ class Simulation:
         present ones (in the energy's metric) that no contact approaches, so the energy never
         grows. A rolling ball weighs 7/5 m and stays rolling, as in _merge.
         """
-        p = self.p
+        consts = self.consts
         inv = [
-            5.0 / 7.0 if motion.classify(v[k], w[k], p) == ROLLING else 1.0 for k in range(len(v))
+            5.0 / 7.0 if motion.classify(v[k], w[k], consts) == ROLLING else 1.0
+            for k in range(len(v))
         ]
         u = [_approach(v, c) for c in contacts]
         m = len(contacts)
@@ -526,7 +561,7 @@ class Simulation:
                     pushed.append(b)
         for k in pushed:
             if inv[k] != 1.0:
-                w[k] = motion.rolling_spin(v[k], w[k][2], p.R)
+                w[k] = motion.rolling_spin(v[k], w[k][2], consts.R)
         return v, w
 
     def _pressed_slides(self, v, w, contacts):
@@ -554,7 +589,7 @@ class Simulation:
         follower's towards, the leader's away) and V_l the leader's speed, its speed at most
         V_l sqrt(c_l / c) and 2 c_l V_l / (c + c_l). A leader at rest stops it.
         """
-        p = self.p
+        consts = self.consts
         for a, b, nx, ny in contacts:
             if b < 0 or _approach(v, (a, b, nx, ny)) <= -REST_SPEED:
                 continue
@@ -564,8 +599,8 @@ class Simulation:
             f, c, lead, speed, c_l = (
                 (a, ca, b, sb, -cb) if sa * ca >= sb * cb else (b, cb, a, sa, -ca)
             )
-            state_l = motion.classify(v[lead], w[lead], p)
-            if c <= 0.0 or state_l == SLIDING or motion.classify(v[f], w[f], p) != ROLLING:
+            state_l = motion.classify(v[lead], w[lead], consts)
+            if c <= 0.0 or state_l == SLIDING or motion.classify(v[f], w[f], consts) != ROLLING:
                 continue
             top = 0.0
             if state_l == ROLLING and c_l > 0.0:
@@ -573,7 +608,7 @@ class Simulation:
             now = math.hypot(v[f][0], v[f][1])
             if top < now:
                 v[f] = (v[f][0] * (top / now), v[f][1] * (top / now))
-                w[f] = motion.rolling_spin(v[f], w[f][2], p.R)
+                w[f] = motion.rolling_spin(v[f], w[f][2], consts.R)
 
     def _rest(self, va, wa, vb, wb, n):
         """Two balls meeting at a crawl, which friction would keep pressing together.
@@ -590,7 +625,7 @@ class Simulation:
         paths converge by mm/s^2), the ball behind gives up just enough of its approach to
         stay clear until either ball stops. Every step only dissipates energy.
         """
-        p = self.p
+        p, consts = self.p, self.consts
         va, wa, vb, wb = self._merge(va, wa, vb, wb, n)
         (aa, sa), (ab, sb) = self._accel(va, wa), self._accel(vb, wb)
         if sa == SLIDING and aa[0] * n[0] + aa[1] * n[1] > 0.0:
@@ -618,23 +653,25 @@ class Simulation:
             pressing = (aa[0] - ab[0]) * n[0] + (aa[1] - ab[1]) * n[1]
         if pressing <= 0.0 or SLIDING in (sa, sb):
             return va, wa, vb, wb
-        until = min(motion.transition_time(sa, va, wa, p), motion.transition_time(sb, vb, wb, p))
+        until = min(
+            motion.transition_time(sa, va, wa, consts), motion.transition_time(sb, vb, wb, consts)
+        )
         if not math.isfinite(until):
             return va, wa, vb, wb
         dv = 0.5 * pressing * until
         slower_a = (va[0] - dv * n[0], va[1] - dv * n[1])
         slower_b = (vb[0] + dv * n[0], vb[1] + dv * n[1])
         if sa == ROLLING and math.hypot(slower_a[0], slower_a[1]) < math.hypot(va[0], va[1]):
-            va, wa = slower_a, motion.rolling_spin(slower_a, wa[2], p.R)
+            va, wa = slower_a, motion.rolling_spin(slower_a, wa[2], consts.R)
         elif sb == ROLLING and math.hypot(slower_b[0], slower_b[1]) < math.hypot(vb[0], vb[1]):
-            vb, wb = slower_b, motion.rolling_spin(slower_b, wb[2], p.R)
+            vb, wb = slower_b, motion.rolling_spin(slower_b, wb[2], consts.R)
         return va, wa, vb, wb
 
     def _merge(self, va, wa, vb, wb, n):
         """A perfectly inelastic normal impulse between two balls; rolling ones stay rolling."""
-        p = self.p
-        roll_a = motion.classify(va, wa, p) == ROLLING
-        roll_b = motion.classify(vb, wb, p) == ROLLING
+        consts = self.consts
+        roll_a = motion.classify(va, wa, consts) == ROLLING
+        roll_b = motion.classify(vb, wb, consts) == ROLLING
         ka, kb = (1.4 if roll_a else 1.0), (1.4 if roll_b else 1.0)
         na = va[0] * n[0] + va[1] * n[1]
         nb = vb[0] * n[0] + vb[1] * n[1]
@@ -642,15 +679,16 @@ class Simulation:
         va = (va[0] + (common - na) * n[0], va[1] + (common - na) * n[1])
         vb = (vb[0] + (common - nb) * n[0], vb[1] + (common - nb) * n[1])
         if roll_a:
-            wa = motion.rolling_spin(va, wa[2], p.R)
+            wa = motion.rolling_spin(va, wa[2], consts.R)
         if roll_b:
-            wb = motion.rolling_spin(vb, wb[2], p.R)
+            wb = motion.rolling_spin(vb, wb[2], consts.R)
         return va, wa, vb, wb
 
     def _accel(self, v, w):
         """(acceleration, state) a ball would have with this velocity and spin."""
-        state = motion.classify(v, w, self.p)
-        return motion.accelerations(state, v, w, self.p)[0], state
+        state = motion.classify(v, w, self.consts)
+        a = motion.accelerations(state, v, w, self.consts)
+        return (a[0], a[1]), state
 
     def _finish_slide(self, v, w):
         """The velocity and spin a sliding ball would roll with once its slide is over.
@@ -658,9 +696,9 @@ class Simulation:
         Friction keeps the slip's direction and takes 2/7 of it off the velocity by the time
         the slip is gone; jumping to that end state only dissipates energy, as the slide does.
         """
-        ux, uy = motion.slip(v, w, self.p.R)
+        ux, uy = motion.slip(v, w, self.consts.R)
         v_end = (v[0] - 2.0 / 7.0 * ux, v[1] - 2.0 / 7.0 * uy)
-        return v_end, motion.rolling_spin(v_end, w[2], self.p.R)
+        return v_end, motion.rolling_spin(v_end, w[2], self.consts.R)
 
     def _transition(self, i: int) -> None:
         b = self.balls[i]
@@ -674,7 +712,7 @@ class Simulation:
             return
         if before == SLIDING:
             v = (b.vx, b.vy)
-            self._set_motion(b, v, motion.rolling_spin(v, b.w[2], self.p.R))
+            self._set_motion(b, v, motion.rolling_spin(v, b.w[2], self.consts.R))
             self._emit("sliding_rolling", (b.name,))
         if b.state != ROLLING or before == ROLLING:
             # A roll ends at rest (a slide can end at rest directly: then both events).
@@ -726,7 +764,8 @@ class Simulation:
         with records.PausedCollector():
             self._start()
             self._loop()
-            return records.shot(*self._records())
+            events, trajectories, final, duration, models = self._records()
+            return records.shot(events, trajectories, final, duration, models)
 
     def run_records(self) -> records.ShotRecord:
         """As `run`, the Shot as its records (what a batch's workers send back)."""
@@ -775,22 +814,45 @@ class Simulation:
                 b.advance(end)
             final[b.name] = (None if b.state == POCKETED else (b.x, b.y), b.state, b.pocket)
             trajectories[b.name] = b.segments
-        models = ModelsUsed(
-            ball_ball=self.models.ball_ball,
-            cushion=self.models.cushion,
-            spin=self.spin,
-            cushion_height=self.geometry.spec.cushion_height,
+        models = _models_used(
+            self.models.ball_ball, self.models.cushion, self.spin, self.geometry.spec.cushion_height
         )
         return self.events, trajectories, final, end, models
 
 
+class _Rail:
+    """A cushion segment as the contact search reads it: its start p, its inward normal n and
+    the vector t from its start to its end, as numbers (C doubles in the kernel, where a
+    tuple's items are Python floats to unpack)."""
+
+    __slots__ = ("nx", "ny", "px", "py", "segment", "tx", "ty")
+
+    def __init__(self, s: Segment) -> None:
+        self.segment = s
+        self.px, self.py = s.p1[0], s.p1[1]
+        self.nx, self.ny = s.normal[0], s.normal[1]
+        self.tx, self.ty = s.p2[0] - s.p1[0], s.p2[1] - s.p1[1]
+
+
+class _Circle:
+    """A jaw or a pocket as the contact search reads it: its centre c and the distance from it
+    at which a ball's centre meets it (see _Rail)."""
+
+    __slots__ = ("cx", "cy", "kind", "piece", "radius")
+
+    def __init__(self, kind: str, piece: Jaw | Pocket, radius: float) -> None:
+        self.kind, self.piece = kind, piece
+        self.cx, self.cy = piece.center[0], piece.center[1]
+        self.radius = radius
+
+
 #: The tables unpacked so far (see _unpacked), by the geometry's identity and the ball radius.
-_TABLES: dict[tuple[int, float], tuple[Geometry, list, list]] = {}
+_TABLES: dict[tuple[int, float], tuple[Geometry, list[_Rail], list[_Circle]]] = {}
 #: How many _TABLES holds at most: a process plays on a few tables (presets, a few custom).
 _TABLES_KEPT = 64
 
 
-def _unpacked(g: Geometry, R: float) -> tuple[list, list]:
+def _unpacked(g: Geometry, R: float) -> tuple[list[_Rail], list[_Circle]]:
     """The table as the contact search reads it (and never changes): each cushion segment with
     its start, normal and direction; each jaw (its circle grown by R, which is where a ball's
     centre meets it) and pocket with its centre and contact radius.
@@ -802,20 +864,36 @@ def _unpacked(g: Geometry, R: float) -> tuple[list, list]:
     key = (id(g), R)
     entry = _TABLES.get(key)
     if entry is None or entry[0] is not g:
-        rails = [
-            (s, s.p1[0], s.p1[1], s.normal[0], s.normal[1], s.p2[0] - s.p1[0], s.p2[1] - s.p1[1])
-            for s in g.segments
-        ]
-        circles = [("jaw", c, c.center[0], c.center[1], c.radius + R) for c in g.jaws]
-        circles += [("pocket", c, c.center[0], c.center[1], c.radius + 0.0) for c in g.pockets]
+        rails = [_Rail(s) for s in g.segments]
+        circles = [_Circle("jaw", c, c.radius + R) for c in g.jaws]
+        circles += [_Circle("pocket", c, c.radius + 0.0) for c in g.pockets]
         if len(_TABLES) >= _TABLES_KEPT:
             _TABLES.clear()
         entry = _TABLES[key] = (g, rails, circles)
     return entry[1], entry[2]
 
 
-def _first_contact(c: tuple[float, ...], gap: float, contact: float, horizon: float):
-    """First contact time from now for f = |d|^2 - contact^2 with coefficients c."""
+#: The ModelsUsed of the shots so far, by their fields: each shot that used the same models
+#: on a table of the same cushion height gets the same (frozen) one, where validating a new
+#: one cost a short shot 2% of its time.
+_MODELS_USED: dict[tuple[str, str, bool, float], ModelsUsed] = {}
+
+
+def _models_used(ball_ball: str, cushion: str, spin: bool, cushion_height: float) -> ModelsUsed:
+    key = (ball_ball, cushion, spin, cushion_height)
+    models = _MODELS_USED.get(key)
+    if models is None:
+        if len(_MODELS_USED) >= _TABLES_KEPT:
+            _MODELS_USED.clear()
+        models = _MODELS_USED[key] = ModelsUsed(
+            ball_ball=ball_ball, cushion=cushion, spin=spin, cushion_height=cushion_height
+        )
+    return models
+
+
+def _first_contact(c: roots.Poly, gap: float, contact: float, horizon: float) -> float:
+    """First contact time from now for f = |d|^2 - contact^2 with coefficients c (inf:
+    none within `horizon`)."""
     if gap <= TOUCH_GAP:
         if c[1] < -2.0 * contact * MIN_APPROACH:
             return 0.0  # touching and approaching: now

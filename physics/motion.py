@@ -30,10 +30,17 @@ EPS_SPEED = 1e-10
 EPS_SPIN = 1e-9
 
 
-def spin_decel(p: Params) -> float:
-    """|dw_z/dt| (rad/s^2) from the spin friction u_sp (docs/physics.md, correction 3)."""
-    u_sp, g, R = p.u_sp, p.g, p.R  # (typed locals keep the kernel's arithmetic in C)
-    return 2.5 * u_sp * g / R
+class Constants:
+    """The constants of a ball's motion, read once per shot from its Params: the kernel reads
+    these as C doubles (physics/motion.pxd), where each read of a Params attribute is a Python
+    attribute lookup."""
+
+    __slots__ = ("R", "g", "spin_decel", "u_r", "u_s")
+
+    def __init__(self, p: Params) -> None:
+        self.R, self.g, self.u_s, self.u_r = p.R, p.g, p.u_s, p.u_r
+        #: |dw_z/dt| (rad/s^2) from the spin friction u_sp (docs/physics.md, correction 3).
+        self.spin_decel = 2.5 * p.u_sp * p.g / p.R
 
 
 def slip(v: tuple[float, float], w: tuple[float, float, float], R: float) -> tuple[float, float]:
@@ -41,9 +48,9 @@ def slip(v: tuple[float, float], w: tuple[float, float, float], R: float) -> tup
     return (v[0] - R * w[1], v[1] + R * w[0])
 
 
-def classify(v: tuple[float, float], w: tuple[float, float, float], p: Params) -> str:
+def classify(v: tuple[float, float], w: tuple[float, float, float], consts: Constants) -> str:
     """The state a ball with this v and w is in."""
-    ux, uy = slip(v, w, p.R)
+    ux, uy = slip(v, w, consts.R)
     eps = EPS_SLIP  # (typed locals keep the kernel's comparisons in C)
     if math.hypot(ux, uy) > eps:
         return SLIDING
@@ -62,49 +69,46 @@ def rolling_spin(v: tuple[float, float], wz: float, R: float) -> tuple[float, fl
 
 
 def accelerations(
-    state: str, v: tuple[float, float], w: tuple[float, float, float], p: Params
-) -> tuple[tuple[float, float], tuple[float, float, float]]:
-    """(a, dw/dt) of a ball in `state`; constant until its next event."""
+    state: str, v: tuple[float, float], w: tuple[float, float, float], consts: Constants
+) -> tuple[float, float, float, float, float]:
+    """(a_x, a_y, dw_x/dt, dw_y/dt, dw_z/dt) of a ball in `state`; constant until its next
+    event. (Flat, not two vectors: the kernel returns them as C doubles.)"""
     wz, eps = w[2], EPS_SPIN  # (typed locals keep the kernel's arithmetic in C)
-    wz_rate = -math.copysign(spin_decel(p), wz) if abs(wz) > eps else 0.0
-    R, g = p.R, p.g
+    wz_rate = -math.copysign(consts.spin_decel, wz) if abs(wz) > eps else 0.0
+    R, g = consts.R, consts.g
     if state == SLIDING:
         ux, uy = slip(v, w, R)
         s = math.hypot(ux, uy)
-        u_s = p.u_s
-        f = u_s * g / s
-        k = 2.5 * f / R
-        return (-f * ux, -f * uy), (-k * uy, k * ux, wz_rate)
+        f = consts.u_s * g / s
+        kw = 2.5 * f / R
+        return -f * ux, -f * uy, -kw * uy, kw * ux, wz_rate
     if state == ROLLING:
         vx, vy = v
         s = math.hypot(vx, vy)
-        u_r = p.u_r
-        f = u_r * g / s
+        f = consts.u_r * g / s
         ax, ay = -f * vx, -f * vy
-        return (ax, ay), (-ay / R, ax / R, wz_rate)
+        return ax, ay, -ay / R, ax / R, wz_rate
     if state == SPINNING:
-        return (0.0, 0.0), (0.0, 0.0, wz_rate)
-    return (0.0, 0.0), (0.0, 0.0, 0.0)
+        return 0.0, 0.0, 0.0, 0.0, wz_rate
+    return 0.0, 0.0, 0.0, 0.0, 0.0
 
 
 def transition_time(
-    state: str, v: tuple[float, float], w: tuple[float, float, float], p: Params
+    state: str, v: tuple[float, float], w: tuple[float, float, float], consts: Constants
 ) -> float:
     """Time from now until the state changes (inf for a ball at rest)."""
     if state == SLIDING:
-        ux, uy = slip(v, w, p.R)
-        u_s, g = p.u_s, p.g  # (typed locals keep the kernel's arithmetic in C)
-        return 2.0 * math.hypot(ux, uy) / (7.0 * u_s * g)
+        ux, uy = slip(v, w, consts.R)
+        return 2.0 * math.hypot(ux, uy) / (7.0 * consts.u_s * consts.g)
     if state == ROLLING:
-        u_r, g = p.u_r, p.g
-        return math.hypot(v[0], v[1]) / (u_r * g)
+        return math.hypot(v[0], v[1]) / (consts.u_r * consts.g)
     if state == SPINNING:
         wz = w[2]
-        return abs(wz) / spin_decel(p)
+        return abs(wz) / consts.spin_decel
     return math.inf
 
 
-def spin_stop_time(w: tuple[float, float, float], p: Params) -> float:
+def spin_stop_time(w: tuple[float, float, float], consts: Constants) -> float:
     """Time from now until the spin about the vertical reaches zero."""
     wz, eps = w[2], EPS_SPIN  # (typed locals keep the kernel's arithmetic in C)
-    return abs(wz) / spin_decel(p) if abs(wz) > eps else math.inf
+    return abs(wz) / consts.spin_decel if abs(wz) > eps else math.inf

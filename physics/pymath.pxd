@@ -23,6 +23,7 @@ cdef extern from "<float.h>":
 
 cdef extern from "<math.h>":
     const double inf "INFINITY"
+    const double nan "NAN"
 
 
 cdef inline double sqrt(double x) except? -1.0:

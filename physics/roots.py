@@ -8,6 +8,10 @@ way, one degree down) into pieces where f is monotone; the first piece on which 
 positive to non-positive holds the earliest root, which a safeguarded Newton iteration then
 pins down to machine precision. No root is missed and none is reported for a pair that only
 moves apart. Pure Python floats: for degree <= 4 this beats numpy's per-call overhead.
+
+Every polynomial is a `Poly`, five coefficients whatever its degree, so that the compiled
+kernel holds it in C doubles (physics/roots.pxd) rather than in a tuple of Python floats; a
+time that never comes is `math.inf`, a C double too, where None would be a Python object.
 """
 
 from __future__ import annotations
@@ -18,34 +22,54 @@ from physics import pymath
 
 _NEWTON_ITERS = 60
 
-
-def _horner(c: tuple[float, ...], t: float) -> float:
-    """Evaluate c[0] + c[1] t + c[2] t^2 + ... ."""
-    acc = 0.0
-    for coef in reversed(c):
-        acc = acc * t + coef
-    return acc
+#: c0 + c1 t + c2 t^2 + c3 t^3 + c4 t^4 as (c0, c1, c2, c3, c4); a lower degree has zeros
+#: at the top. Horner's rule below starts from zero, so those zeros change no bit of a value:
+#: 0 t + 0 is 0 for any finite t, and the first coefficient that is not zero is then added to
+#: a zero, as it would have been without them.
+Poly = tuple[float, float, float, float, float]
 
 
-def _derivative(c: tuple[float, ...]) -> tuple[float, ...]:
-    return tuple([k * c[k] for k in range(1, len(c))])
+def _horner(c: Poly, t: float) -> float:
+    """Evaluate c at t."""
+    c0, c1, c2, c3, c4 = c
+    return ((((0.0 * t + c4) * t + c3) * t + c2) * t + c1) * t + c0
 
 
-def _quadratic_roots(c0: float, c1: float, c2: float) -> list[float]:
-    """Real roots of c0 + c1 t + c2 t^2, sorted, computed without cancellation."""
+def _derivative(c: Poly) -> Poly:
+    return (c[1], 2.0 * c[2], 3.0 * c[3], 4.0 * c[4], 0.0)
+
+
+def _degree(c: Poly) -> int:
+    """The index of the last coefficient that is not zero (0 for a constant, even zero)."""
+    if c[4] != 0.0:
+        return 4
+    if c[3] != 0.0:
+        return 3
+    if c[2] != 0.0:
+        return 2
+    if c[1] != 0.0:
+        return 1
+    return 0
+
+
+def _quadratic_roots(c0: float, c1: float, c2: float) -> tuple[float, float]:
+    """Real roots of c0 + c1 t + c2 t^2, sorted, computed without cancellation; inf in place
+    of each root there is not (no caller looks beyond a finite time)."""
     if c2 == 0.0:
-        return [] if c1 == 0.0 else [-c0 / c1]
+        if c1 == 0.0:
+            return math.inf, math.inf
+        return -c0 / c1, math.inf
     disc = c1 * c1 - 4.0 * c2 * c0
     if disc < 0.0:
-        return []
+        return math.inf, math.inf
     q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
     if q == 0.0:
-        return [0.0]
+        return 0.0, math.inf
     r1, r2 = q / c2, c0 / q
-    return [r1, r2] if r1 <= r2 else [r2, r1]
+    return (r1, r2) if r1 <= r2 else (r2, r1)
 
 
-def _refine(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -> float:
+def _refine(c: Poly, dc: Poly, lo: float, hi: float) -> float:
     """The root of a polynomial monotone on [lo, hi] with f(lo) > 0 >= f(hi).
 
     Newton steps that stay inside the bracket, bisection otherwise, so the loop ends even
@@ -76,26 +100,33 @@ def _refine(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -
     return min(t, hi)
 
 
-def critical_points(dc: tuple[float, ...], hi: float) -> list[float]:
-    """Sorted roots strictly inside (0, hi) of the derivative `dc` of a polynomial (where it
-    turns: the callers have the derivative already, for their Newton steps)."""
-    while len(dc) > 1 and dc[-1] == 0.0:
-        dc = dc[:-1]
-    if len(dc) <= 1:
-        return []
-    if len(dc) == 2:
-        pts = [-dc[0] / dc[1]]
-    elif len(dc) == 3:
-        pts = _quadratic_roots(dc[0], dc[1], dc[2])
-    else:
-        pts = all_roots(dc, hi)
-    return [p for p in pts if 0.0 < p < hi]
+def _knots(dc: Poly, lo: float, hi: float) -> list[float]:
+    """lo, the roots of the derivative `dc` of a polynomial inside (0, hi) and past lo in
+    order, and hi: the ends of the pieces of [lo, hi] on which the polynomial is monotone.
+    (The callers have the derivative already, for their Newton steps.)"""
+    knots = [lo]
+    degree = _degree(dc)
+    if degree == 1:
+        turn = -dc[0] / dc[1]
+        if 0.0 < turn < hi and turn > lo:
+            knots.append(turn)
+    elif degree == 2:
+        r1, r2 = _quadratic_roots(dc[0], dc[1], dc[2])
+        for turn in (r1, r2):
+            if 0.0 < turn < hi and turn > lo:
+                knots.append(turn)
+    elif degree > 2:
+        for turn in all_roots(dc, hi):
+            if 0.0 < turn < hi and turn > lo:
+                knots.append(turn)
+    knots.append(hi)
+    return knots
 
 
-def all_roots(c: tuple[float, ...], hi: float) -> list[float]:
+def all_roots(c: Poly, hi: float) -> list[float]:
     """Every root of the polynomial `c` in (0, hi), sorted (by recursion on the degree)."""
     dc = _derivative(c)
-    knots = [0.0, *critical_points(dc, hi), hi]
+    knots = _knots(dc, 0.0, hi)
     roots = []
     f_prev = _horner(c, 0.0)
     for k in range(len(knots) - 1):  # each piece between knots, in order
@@ -107,10 +138,14 @@ def all_roots(c: tuple[float, ...], hi: float) -> list[float]:
     return roots
 
 
-def _refine_neg(c: tuple[float, ...], dc: tuple[float, ...], lo: float, hi: float) -> float:
+def _negated(c: Poly) -> Poly:
+    c0, c1, c2, c3, c4 = c
+    return (-c0, -c1, -c2, -c3, -c4)
+
+
+def _refine_neg(c: Poly, dc: Poly, lo: float, hi: float) -> float:
     """As `_refine`, for a polynomial rising through zero on [lo, hi]."""
-    neg = tuple([-x for x in c])
-    return _refine(neg, tuple([-x for x in dc]), lo, hi)
+    return _refine(_negated(c), _negated(dc), lo, hi)
 
 
 def path_misses(
@@ -129,48 +164,52 @@ def path_misses(
     return pymath.clears(px + s * cx, py + s * cy, ax, ay, h, clearance)
 
 
-def first_entry_quadratic(c0: float, c1: float, c2: float, hi: float, skip: float = 0.0):
+def first_entry_quadratic(c0: float, c1: float, c2: float, hi: float, skip: float = 0.0) -> float:
     """`first_entry` for a quadratic c0 + c1 t + c2 t^2, in closed form."""
     if skip > hi:
-        return None
+        return math.inf
     if c0 + (c1 + c2 * skip) * skip <= 0.0:
         return skip
-    for r in _quadratic_roots(c0, c1, c2):
-        if skip <= r <= hi:
-            return r
-    return None
+    r1, r2 = _quadratic_roots(c0, c1, c2)
+    if skip <= r1 <= hi:
+        return r1
+    if skip <= r2 <= hi:
+        return r2
+    return math.inf
 
 
-def first_entry(c: tuple[float, ...], hi: float, skip: float = 0.0) -> float | None:
-    """The earliest t in [skip, hi] with c(t) <= 0, or None if f stays positive.
+def first_entry(c: Poly, hi: float, skip: float = 0.0) -> float:
+    """The earliest t in [skip, hi] with c(t) <= 0, or inf if f stays positive.
 
     The caller has already dealt with a contact at the present (touching and approaching).
     `skip` > 0 is for a pair that touches now and is not approaching: it ignores the contact
     at the present and asks whether the two come together again later.
     """
     if skip > hi:
-        return None
+        return math.inf
     if _horner(c, skip) <= 0.0:
         return skip
     dc = _derivative(c)
-    knots = [skip, *[p for p in critical_points(dc, hi) if p > skip], hi]
+    knots = _knots(dc, skip, hi)
     for k in range(len(knots) - 1):  # each piece between knots, in order
         a, b = knots[k], knots[k + 1]
         if _horner(c, b) <= 0.0:
             return _refine(c, dc, a, b)
-    return None
+    return math.inf
 
 
-def first_return(c: tuple[float, ...], hi: float, depth: float) -> float | None:
-    """For two things in contact now (c(0) ~ 0) and not approaching: the next contact.
+def first_return(c: Poly, hi: float, depth: float) -> float:
+    """For two things in contact now (c(0) ~ 0) and not approaching: the next contact (inf
+    if none comes).
 
     Either they come apart (c rises above zero) and meet again where c falls back to zero,
     or they stay pressed together and a contact is due once c sinks `depth` below where it
     is now (or below zero, if it is above). Float noise at the touching point is neither.
     """
-    floor = min(c[0], 0.0) - depth
+    c0, c1, c2, c3, c4 = c
+    floor = min(c0, 0.0) - depth
     dc = _derivative(c)
-    knots = [0.0, *critical_points(dc, hi), hi]
+    knots = _knots(dc, 0.0, hi)
     apart = False
     for k in range(len(knots) - 1):  # each piece between knots, in order
         a, b = knots[k], knots[k + 1]
@@ -181,5 +220,5 @@ def first_return(c: tuple[float, ...], hi: float, depth: float) -> float | None:
         elif f_b > 0.0:
             apart = True
         elif f_b <= floor:
-            return _refine((c[0] - floor, *c[1:]), dc, a, b)
-    return None
+            return _refine((c0 - floor, c1, c2, c3, c4), dc, a, b)
+    return math.inf

@@ -1,5 +1,6 @@
 """The collision-time solver: the earliest root, never a missed or a spurious one."""
 
+import math
 from itertools import pairwise
 
 import numpy as np
@@ -29,8 +30,8 @@ def test_first_entry_matches_dense_sampling(roots, sign):
     c = tuple(float(x) * sign for x in np.polynomial.polynomial.polyfromroots(roots))
     got = first_entry(c, 2.0)
     ref = brute_first(c, 2.0)
-    assert (got is None) == (ref is None)
-    if got is not None:
+    assert (got == math.inf) == (ref is None)
+    if ref is not None:
         assert abs(got - ref) < 1e-5
 
 
@@ -38,13 +39,13 @@ def test_double_root_is_a_contact_not_a_miss():
     """A grazing contact: f touches zero at t = 1 without crossing."""
     c = tuple(np.polynomial.polynomial.polyfromroots([1.0, 1.0, -5.0, -6.0]))
     t = first_entry(c, 2.0)
-    assert t is not None and abs(t - 1.0) < 1e-6
+    assert abs(t - 1.0) < 1e-6
 
 
 def test_near_miss_reports_nothing():
     c = tuple(np.polynomial.polynomial.polyfromroots([1.0, 1.0, -5.0, -6.0]))
     c = (c[0] + 1e-9, *c[1:])
-    assert first_entry(c, 2.0) is None
+    assert first_entry(c, 2.0) == math.inf
 
 
 def test_root_is_never_before_the_contact():
@@ -57,8 +58,8 @@ def test_root_is_never_before_the_contact():
 
 def test_quadratic_closed_form():
     assert first_entry_quadratic(1.0, -3.0, 2.0, 10.0) == 0.5
-    assert first_entry_quadratic(1.0, 3.0, 2.0, 10.0) is None
-    assert first_entry_quadratic(1.0, -3.0, 2.0, 0.25) is None
+    assert first_entry_quadratic(1.0, 3.0, 2.0, 10.0) == math.inf
+    assert first_entry_quadratic(1.0, -3.0, 2.0, 0.25) == math.inf
 
 
 def test_path_misses_is_conservative():
