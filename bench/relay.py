@@ -348,46 +348,6 @@ async def read_forever(ws: aiohttp.ClientWebSocketResponse, receiver: Receiver) 
             receiver.take(message.data)
 
 
-class Publisher:
-    """POSTs on keep-alive HTTP/1.1 connections, requests written and answers read by hand.
-
-    The load generator shares the two cores with the server (and, for Redis, with redis-server
-    too): aiohttp's client spent about 150 us of CPU on each publish, as much again as some of
-    the servers measured, and that share of the machine is an artefact of running everything
-    on one host. A request here costs a few system calls and a little parsing. Every target
-    answers a publish with a Content-Length (checked: a response without one is an error)."""
-
-    def __init__(self, port: int, token: str) -> None:
-        self.port = port
-        self.head = (
-            f"POST %s HTTP/1.1\r\nHost: {HOST}:{port}\r\nContent-Type: application/json\r\n"
-            f"Authorization: Bearer {token}\r\nContent-Length: %d\r\n\r\n"
-        )
-        self.idle: list[tuple[asyncio.StreamReader, asyncio.StreamWriter]] = []
-
-    async def post(self, path: str, body: bytes) -> int:
-        """The status of one POST of `body` to `path`."""
-        if self.idle:
-            reader, writer = self.idle.pop()
-        else:
-            reader, writer = await asyncio.open_connection(HOST, self.port)
-        writer.write((self.head % (path, len(body))).encode() + body)
-        head = await reader.readuntil(b"\r\n\r\n")
-        lines = head.decode("latin-1").split("\r\n")
-        fields = dict(line.lower().split(": ", 1) for line in lines[1:] if line)
-        await reader.readexactly(int(fields["content-length"]))
-        if fields.get("connection") == "close":
-            writer.close()
-        else:
-            self.idle.append((reader, writer))
-        return int(lines[0].split()[1])
-
-    def close(self) -> None:
-        for _, writer in self.idle:
-            writer.close()
-        self.idle.clear()
-
-
 class Load:
     """The load generator's side of one target: subscribers and a publisher."""
 
@@ -401,7 +361,7 @@ class Load:
         from server.relay.auth import TokenAuthority
 
         token = TokenAuthority(SECRET.encode(), "public-").issue("bench", [], 3600, server=True)
-        self.publisher = Publisher(port, token)
+        self.headers = {"Content-Type": "application/json", "Authorization": f"Bearer {token}"}
 
     async def subscribe(self, channels: list[str]) -> int:
         """Open one WebSocket subscriber per entry of `channels`; how many opened."""
@@ -420,7 +380,6 @@ class Load:
         return len(self.sockets)
 
     async def close(self) -> None:
-        self.publisher.close()
         for reader in self.readers:
             reader.cancel()
         await asyncio.gather(*self.readers, return_exceptions=True)
@@ -430,10 +389,13 @@ class Load:
         self.receiver = Receiver()
 
     async def publish(self, channel: str) -> None:
-        body = json.dumps({"t": time.monotonic_ns(), "pad": PAD}).encode()
-        status = await self.publisher.post(f"/pub/{channel}", body)
-        if status not in (200, 201, 202):
-            raise RuntimeError(f"publish to {channel}: HTTP {status}")
+        body = json.dumps({"t": time.monotonic_ns(), "pad": PAD})
+        async with self.session.post(
+            f"{self.base}/pub/{channel}", data=body, headers=self.headers
+        ) as response:
+            await response.read()
+            if response.status not in (200, 201, 202):
+                raise RuntimeError(f"publish to {channel}: HTTP {response.status}")
 
     async def saturate(self, channel_of: Callable[[int], str], messages: int, fanout: int) -> float:
         """Publish `messages` with a few in flight; deliveries per second until the last."""
