@@ -31,6 +31,10 @@ channels with local subscribers. It blocks in one `XREAD` on `relay:news` and ha
 message of its channels, straight from the news, to every local subscriber
 (`Backend._fan_out`), so Redis is read once per message per replica, never once per
 subscriber or per channel, and the replica's Redis connections do not grow with its channels.
+The replica that published a message delivers it to its own subscribers as soon as Redis
+answers, when it is the next message they are owed (the script returns the channel's previous
+id; `ReplicaReader.take_own`): a game table's players and spectators on that replica do not
+wait for the news' round trip, and the news' copy is then dropped as old.
 
 While Redis cannot be reached, every operation raises `Unavailable` (503 with Retry-After to a
 publisher): nothing is half-done, and the reader retries on its own.
@@ -212,7 +216,7 @@ if renew then  -- after the HSET, which creates the meta hash of a new channel
   redis.call('EXPIRE', KEYS[2], ARGV[5])
 end
 return {id, fields[2], count, meta[4] or '',
-  subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[4]))}
+  subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[4])), meta[1] or '0-0'}
 """
 )
 
@@ -383,7 +387,7 @@ class RedisBackend(Backend):
             )
         except REDIS_DOWN as error:
             raise _unavailable(error) from None
-        stream_id, now, messages, requested, subscribers = reply
+        stream_id, now, messages, requested, subscribers, previous = reply
         message = StoredMessage(
             channel=channel,
             id=_to_message_id(stream_id),
@@ -392,8 +396,11 @@ class RedisBackend(Backend):
             time=float(now),
             event=event,
         )
+        # This replica's subscribers get it now if it is the next message they are owed;
+        # otherwise (and other replicas' always) from the news, in order.
+        if self._reader.take_own(channel, previous, stream_id):
+            self._fan_out(channel, message)
         info = _info([messages, requested, subscribers, stream_id, now])
-        # Local subscribers get it from this replica's reader, like everyone else's.
         return Published(message=message, info=info, had_subscribers=info.subscribers > 0)
 
     async def read_since(self, channel: str, last_id: str | None, limit: int) -> Backlog:

@@ -108,9 +108,12 @@ class Position:
         """The entries newer than the position, which moves past them."""
         fresh = [entry for entry in entries if stream_order(entry[0]) > self.order]
         if fresh:
-            self.stream_id = fresh[-1][0]
-            self.order = stream_order(self.stream_id)
+            self.move_to(fresh[-1][0])
         return fresh
+
+    def move_to(self, stream_id: bytes) -> None:
+        self.stream_id = stream_id
+        self.order = stream_order(stream_id)
 
 
 class ReplicaReader:
@@ -152,6 +155,19 @@ class ReplicaReader:
     def remove(self, channel: str) -> None:
         """Stop reading `channel`."""
         self._positions.pop(channel, None)
+
+    def take_own(self, channel: str, previous: bytes, stream_id: bytes) -> bool:
+        """A message this replica has just published as `stream_id`, right after `previous`
+        (the channel's last id when Redis stored it). True if the channel is read here and
+        its position is `previous`: the message is the next one owed, the position moves past
+        it and the caller delivers it at once (the news' copy then comes as old and is
+        dropped). False otherwise (not read here, or earlier messages still on their way):
+        the news delivers it, in order, like any other replica's."""
+        at = self._positions.get(channel)
+        if at is None or at.stream_id != previous:
+            return False
+        at.move_to(stream_id)
+        return True
 
     async def _start(self) -> None:
         async with self._starting:

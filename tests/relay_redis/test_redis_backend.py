@@ -470,3 +470,38 @@ async def test_a_channels_keys_expire_a_day_after_its_last_renewal(
         assert all(IDLE_KEY_S - 5 < ttl <= IDLE_KEY_S for ttl in await ttls())
     finally:
         await admin.aclose()
+
+
+async def test_a_replicas_own_message_reaches_its_subscribers_without_waiting_for_the_news(
+    make_backend: MakeBackend,
+) -> None:
+    """While the reader is held, what this replica publishes is delivered at once, in order;
+    the news' copies, read later, are dropped as old."""
+    backend = make_backend()
+    held = HeldReads(backend)
+    sink = Collector()
+    await backend.subscribe("game", sink, start=Start.NEWEST)
+    ids = await publish_many(backend, "game", 3)
+    assert sink.ids == ids  # before any news was read
+    held.release()
+    ids += await publish_many(backend, "game", 1, start=3)
+    await asyncio.sleep(0.2)  # room for a duplicate from the news to show up
+    assert sink.ids == ids
+
+
+async def test_an_own_message_after_another_replicas_waits_for_it(
+    make_backend: MakeBackend,
+) -> None:
+    """A message that follows one this replica has not read yet is not delivered ahead of
+    it: both come from the news, in the channel's order."""
+    here, there = make_backend(), make_backend()
+    held = HeldReads(here)
+    sink = Collector()
+    await here.subscribe("game", sink, start=Start.NEWEST)
+    first = await there.publish("game", b"there", "text/plain")
+    second = await here.publish("game", b"here", "text/plain")
+    await asyncio.sleep(0.1)
+    assert sink.events == []  # "here" follows "there", which the held reader has not read
+    held.release()
+    await sink.wait_for(2)
+    assert sink.ids == [first.message.id, second.message.id]
