@@ -379,18 +379,25 @@ class RedisBackend(Backend):
     async def publish(
         self, channel: str, data: bytes, content_type: str, event: str | None = None
     ) -> Published:
-        stream, meta, subs = _keys(channel).values()
         try:
             reply = await self._publish(
-                [stream, meta, subs, REPLICAS_KEY, NEWS_KEY, NEWS_SEQUENCE_KEY],
+                [
+                    channel_key(channel, "stream"),
+                    channel_key(channel, "meta"),
+                    channel_key(channel, "subs"),
+                    REPLICAS_KEY,
+                    NEWS_KEY,
+                    NEWS_SEQUENCE_KEY,
+                ],
                 [*self._publish_bounds, content_type, data, event or "", channel, *_PUBLISH_LAST],
             )
         except REDIS_DOWN as error:
             raise _unavailable(error) from None
         stream_id, now, messages, requested, subscribers, previous = reply
+        message_id = _to_message_id(stream_id)
         message = StoredMessage(
             channel=channel,
-            id=_to_message_id(stream_id),
+            id=message_id,
             content_type=content_type,
             data=data,
             time=float(now),
@@ -400,7 +407,12 @@ class RedisBackend(Backend):
         # otherwise (and other replicas' always) from the news, in order.
         if self._reader.take_own(channel, previous, stream_id):
             self._fan_out(channel, message)
-        info = _info([messages, requested, subscribers, stream_id, now])
+        info = ChannelInfo(
+            messages=messages,
+            requested=-1 if not requested else int(float(now) - float(requested)),
+            subscribers=subscribers,
+            last_message_id=message_id,
+        )
         return Published(message=message, info=info, had_subscribers=info.subscribers > 0)
 
     async def read_since(self, channel: str, last_id: str | None, limit: int) -> Backlog:
