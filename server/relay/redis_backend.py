@@ -11,12 +11,14 @@ Layout, per channel `c` (the `{c}` hash tag keeps a channel's keys in one cluste
   no bound reads no entry to check its age), `kept`, when the keys' idle expiry was last
   renewed (at most once per `RENEW_S`).
 - `relay:{c}:subs`    hash: replica id -> its local subscriber count.
+- `relay:{c}:readers` set: the replicas that read the channel (have local subscribers).
 - `relay:{c}:deleted` the stream of a channel just deleted, kept a minute (DELETED_KEPT_S) so
   that every replica delivers what preceded the delete before closing.
-- `relay:news`        a stream of every publish and delete in the order Redis ran them: the
-  channel, a sequence number (`relay:news:sequence`), the message's stream id and, unless it is
-  larger than `NEWS_DATA_MAX`, the message; for a delete, the deleting replica. Every replica
-  reads it (see `server.relay.redis_reader`).
+- `relay:news:<replica>` a stream per replica of the publishes and deletes, made by other
+  replicas, of the channels it reads, in the order Redis ran them: the channel, a sequence
+  number (`relay:news:<replica>:sequence`), the message's stream id and its predecessor's and,
+  unless it is larger than `NEWS_DATA_MAX`, the message; for a delete, the deleting replica
+  (see `server.relay.redis_reader`). It expires an hour after the replica's last heartbeat.
 - `relay:replicas`    sorted set: replica id -> Redis time of its last heartbeat; counts of
   replicas silent for `ALIVE_S` are ignored, so a crashed replica's subscribers stop counting.
 
@@ -27,14 +29,15 @@ while others are on their way to Redis go together in one pipeline (`server.rela
 so under load a round trip and an fsync serve many of them.
 
 Fan-out: each replica runs one reader (`server.relay.redis_reader`) on one connection for all
-channels with local subscribers. It blocks in one `XREAD` on `relay:news` and hands each
+channels with local subscribers. It blocks in one `XREAD` on its own news and hands each
 message of its channels, straight from the news, to every local subscriber
-(`Backend._fan_out`), so Redis is read once per message per replica, never once per
+(`Backend._fan_out`), so Redis is read once per message per reading replica, never once per
 subscriber or per channel, and the replica's Redis connections do not grow with its channels.
 The replica that published a message delivers it to its own subscribers as soon as Redis
 answers, when it is the next message they are owed (the script returns the channel's previous
-id; `ReplicaReader.take_own`): a game table's players and spectators on that replica do not
-wait for the news' round trip, and the news' copy is then dropped as old.
+id; `ReplicaReader.take_own`), and is sent no news of it: a game table's players and
+spectators on that replica do not wait for a second round trip, and a replica alone on its
+channels reads no news at all.
 
 While Redis cannot be reached, every operation raises `Unavailable` (503 with Retry-After to a
 publisher): nothing is half-done, and the reader retries on its own.
@@ -64,28 +67,30 @@ from server.relay.redis_reader import (
     DELETED_PART,
     NEWS_DATA_MAX,
     NEWS_KEPT,
-    NEWS_KEY,
-    NEWS_SEQUENCE_KEY,
+    READERS_PART,
     REDIS_DOWN,
+    REPLICAS_KEY,
     Entries,
     ReplicaReader,
     cancelled,
     channel_key,
+    news_key,
+    news_sequence_key,
 )
 
 log = logging.getLogger(__name__)
 
-REPLICAS_KEY = "relay:replicas"
 HEARTBEAT_S = 5.0
 ALIVE_S = 15.0
 IDLE_KEY_S = 86400  # a channel's keys outlive its last message by this long, less at most
 RENEW_S = 3600  # this: the publish that renews their expiry comes at most once in this time
+NEWS_IDLE_S = 3600  # a replica's news outlives its last heartbeat by this long
 COMMAND_CONNECTIONS = 64
 PUBLISH_PIPELINES = 2  # publishes on their way to Redis at once, in pipelines of at most
 PUBLISH_BATCH = 256  # this many (see `server.relay.redis_batch`)
 DELETED_KEPT_S = 60  # a deleted stream stays readable this long for the replicas' readers
 RETRY_AFTER_S = 1
-_PUBLISH_LAST = (NEWS_KEPT, NEWS_DATA_MAX, RENEW_S)  # the publish script's last arguments
+_NEWS_LAST = (NEWS_KEPT, NEWS_DATA_MAX, RENEW_S)  # the publish script's last arguments
 REDIS_TIMEOUT_S = 10.0  # to connect, and for a publish pipeline's replies (then 503)
 
 
@@ -159,21 +164,39 @@ local function evict(stream, meta, maxlen, cutoff, maxbytes)
   return count
 end
 
--- Subscribers of all replicas that sent a heartbeat within `alive` seconds.
+-- Whether `replica` sent a heartbeat within `alive` seconds.
+local function living(replicas, replica, now, alive)
+  local seen = redis.call('ZSCORE', replicas, replica)
+  return seen and tonumber(seen) >= now - alive
+end
+
+-- Subscribers of all living replicas.
 local function subscribers(subs, replicas, now, alive)
   local total = 0
   local counts = redis.call('HGETALL', subs)
   for i = 1, #counts, 2 do
-    local seen = redis.call('ZSCORE', replicas, counts[i])
-    if seen and tonumber(seen) >= now - alive then total = total + tonumber(counts[i + 1]) end
+    if living(replicas, counts[i], now, alive) then total = total + tonumber(counts[i + 1]) end
   end
   return total
 end
+
+-- Append `fields` to the news of each living reader of a channel but `author` (whose own
+-- subscribers are served as it publishes or deletes). A reader that missed news while it was
+-- not counted as living sees the gap in its next message's predecessor.
+local function announce(readers, replicas, now, alive, author, kept, fields)
+  for _, reader in ipairs(redis.call('SMEMBERS', readers)) do
+    if reader ~= author and living(replicas, reader, now, alive) then
+      local news = 'relay:news:' .. reader  -- as `news_key` names it
+      redis.call('XADD', news, 'MAXLEN', '~', kept, '*',
+        'n', redis.call('INCR', news .. ':sequence'), unpack(fields))
+    end
+  end
+end
 """
 
-# KEYS: stream meta subs replicas news news_sequence
-# ARGV: maxlen ttl maxbytes alive idle_s content_type data event channel news_kept news_data_max
-#       renew_s
+# KEYS: stream meta subs replicas readers
+# ARGV: maxlen ttl maxbytes alive idle_s content_type data event channel replica news_kept
+#       news_data_max renew_s
 _PUBLISH = (
     _LUA_HELPERS
     + """
@@ -189,11 +212,12 @@ if ARGV[8] ~= '' then
   table.insert(fields, ARGV[8])
 end
 local id = redis.call('XADD', KEYS[1], seconds .. '-*', unpack(fields))
-local news = {'ch', ARGV[9], 'n', redis.call('INCR', KEYS[6]), 'id', id}
-if #ARGV[7] <= tonumber(ARGV[11]) then
+local previous = meta[1] or '0-0'
+local news = {'ch', ARGV[9], 'id', id, 'p', previous}
+if #ARGV[7] <= tonumber(ARGV[12]) then
   for i = 1, #fields do table.insert(news, fields[i]) end
 end
-redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[10], '*', unpack(news))
+announce(KEYS[5], KEYS[4], now, tonumber(ARGV[4]), ARGV[10], ARGV[11], news)
 local count = redis.call('XLEN', KEYS[1])
 local known = tonumber(meta[3]) or false
 local first = known
@@ -205,7 +229,7 @@ count, bytes, evicted, first = trim(KEYS[1], count, bytes, first, tonumber(ARGV[
 -- The keys' idle expiry is renewed once per renew_s rather than by every publish: two EXPIREs,
 -- each with its entry in the append-only file, were a sixth of this script's time.
 local changed = {'last', id, 'bytes', bytes}
-local renew = not meta[5] or now - tonumber(meta[5]) >= tonumber(ARGV[12])
+local renew = not meta[5] or now - tonumber(meta[5]) >= tonumber(ARGV[13])
 if renew then
   table.insert(changed, 'kept')
   table.insert(changed, string.format('%.6f', now))
@@ -214,9 +238,10 @@ trimmed(KEYS[2], changed, evicted, first, known)
 if renew then  -- after the HSET, which creates the meta hash of a new channel
   redis.call('EXPIRE', KEYS[1], ARGV[5])
   redis.call('EXPIRE', KEYS[2], ARGV[5])
+  redis.call('EXPIRE', KEYS[5], ARGV[5])
 end
 return {id, fields[2], count, meta[4] or '',
-  subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[4])), meta[1] or '0-0'}
+  subscribers(KEYS[3], KEYS[4], now, tonumber(ARGV[4])), previous}
 """
 )
 
@@ -252,7 +277,7 @@ return {messages, meta[2] or '', subs, meta[1] or '', string.format('%.6f', now)
 """
 )
 
-# KEYS: stream meta subs replicas news deleted news_sequence
+# KEYS: stream meta subs replicas readers deleted
 # ARGV: alive channel replica news_kept grave_s
 # The stream is kept a little while as `deleted`, so that every replica can still deliver the
 # messages published before the delete, then the close.
@@ -267,8 +292,8 @@ if redis.call('EXISTS', KEYS[1]) == 1 then
   redis.call('EXPIRE', KEYS[6], ARGV[5])
 end
 redis.call('DEL', KEYS[3])
-redis.call('XADD', KEYS[5], 'MAXLEN', '~', ARGV[4], '*',
-  'ch', ARGV[2], 'n', redis.call('INCR', KEYS[7]), 'r', ARGV[3])
+announce(KEYS[5], KEYS[4], now, tonumber(ARGV[1]), ARGV[3], ARGV[4], {'ch', ARGV[2], 'r', ARGV[3]})
+redis.call('DEL', KEYS[5])
 return existed and 1 or 0
 """
 )
@@ -283,12 +308,14 @@ end
 redis.call('EXPIRE', KEYS[1], ARGV[3])
 """
 
-# KEYS: replicas; ARGV: replica
+# KEYS: replicas news news_sequence; ARGV: replica news_idle_s
 _HEARTBEAT = """
 local t = redis.call('TIME')
 local now = tonumber(t[1]) + tonumber(t[2]) / 1e6
 redis.call('ZADD', KEYS[1], now, ARGV[1])
 redis.call('ZREMRANGEBYSCORE', KEYS[1], '-inf', now - 3600)
+redis.call('EXPIRE', KEYS[2], ARGV[2])
+redis.call('EXPIRE', KEYS[3], ARGV[2])
 """
 
 
@@ -354,7 +381,12 @@ class RedisBackend(Backend):
             )
         )
         self._reader = ReplicaReader(
-            url, self.replica, self._redis, self._fan_out_entries, self._deleted_elsewhere
+            url,
+            self.replica,
+            self._redis,
+            self._fan_out_entries,
+            self._deleted_elsewhere,
+            IDLE_KEY_S,
         )
         self._publish = ScriptBatcher(
             url, _PUBLISH, PUBLISH_PIPELINES, PUBLISH_BATCH, REDIS_TIMEOUT_S
@@ -386,10 +418,17 @@ class RedisBackend(Backend):
                     channel_key(channel, "meta"),
                     channel_key(channel, "subs"),
                     REPLICAS_KEY,
-                    NEWS_KEY,
-                    NEWS_SEQUENCE_KEY,
+                    channel_key(channel, READERS_PART),
                 ],
-                [*self._publish_bounds, content_type, data, event or "", channel, *_PUBLISH_LAST],
+                [
+                    *self._publish_bounds,
+                    content_type,
+                    data,
+                    event or "",
+                    channel,
+                    self.replica,
+                    *_NEWS_LAST,
+                ],
             )
         except REDIS_DOWN as error:
             raise _unavailable(error) from None
@@ -404,7 +443,8 @@ class RedisBackend(Backend):
             event=event,
         )
         # This replica's subscribers get it now if it is the next message they are owed;
-        # otherwise (and other replicas' always) from the news, in order.
+        # otherwise once the reader has read the channel's stream (other replicas' from their
+        # news).
         if self._reader.take_own(channel, previous, stream_id):
             self._fan_out(channel, message)
         info = ChannelInfo(
@@ -448,14 +488,13 @@ class RedisBackend(Backend):
                     keys["meta"],
                     keys["subs"],
                     REPLICAS_KEY,
-                    NEWS_KEY,
+                    channel_key(channel, READERS_PART),
                     channel_key(channel, DELETED_PART),
-                    NEWS_SEQUENCE_KEY,
                 ],
                 args=[ALIVE_S, channel, self.replica, NEWS_KEPT, DELETED_KEPT_S],
             )
             await self._reader.flush_deleted(channel)
-        # Local subscribers now; other replicas' readers see the entry in `relay:news`.
+        # Local subscribers now; other replicas' readers see the entry in their news.
         closed = await self._end_local(channel, DELETED)
         return bool(existed) or closed > 0
 
@@ -472,6 +511,7 @@ class RedisBackend(Backend):
                 for channel in channels:
                     pipe.hdel(_keys(channel)["subs"], self.replica)
                 pipe.zrem(REPLICAS_KEY, self.replica)
+                pipe.delete(news_key(self.replica), news_sequence_key(self.replica))
                 await pipe.execute()
         await self._reader.close()
         self._publish.close()
@@ -483,7 +523,7 @@ class RedisBackend(Backend):
             await self._reader.add(channel)
 
     async def _close_feed(self, channel: str) -> None:
-        self._reader.remove(channel)
+        await self._reader.remove(channel)
 
     def _fan_out_entries(self, channel: str, entries: Entries) -> None:
         for stream_id, fields in entries:
@@ -515,7 +555,10 @@ class RedisBackend(Backend):
         while not cancelled():
             await asyncio.sleep(HEARTBEAT_S)
             try:
-                await self._heartbeat_script(keys=[REPLICAS_KEY], args=[self.replica])
+                await self._heartbeat_script(
+                    keys=[REPLICAS_KEY, news_key(self.replica), news_sequence_key(self.replica)],
+                    args=[self.replica, NEWS_IDLE_S],
+                )
                 for channel in list(self._unsynced):
                     subs_key, subscribers = _keys(channel)["subs"], self.local_subscribers(channel)
                     if subscribers:

@@ -311,15 +311,16 @@ async def test_news_trimmed_before_it_was_read_loses_no_message(
 ) -> None:
     """The reader sees from the news' sequence numbers that entries it never read are gone,
     and reads its channels' own streams instead of skipping to the news that is left."""
-    backend = make_backend()
-    held = HeldReads(backend)
+    here, there = make_backend(), make_backend()
+    held = HeldReads(here)
     sink = Collector()
-    await backend.subscribe("game", sink, start=Start.NEWEST)
-    ids = await publish_many(backend, "game", 3)
+    await here.subscribe("game", sink, start=Start.NEWEST)
+    ids = await publish_many(there, "game", 3)
     admin = aioredis.from_url(redis_url)
-    await admin.xtrim("relay:news", maxlen=0)  # as if trimmed while this reader lagged
+    news = redis_reader.news_key(here.replica)
+    await admin.xtrim(news, maxlen=0)  # as if trimmed while this reader lagged
     await admin.aclose()
-    ids += await publish_many(backend, "game", 2, start=3)
+    ids += await publish_many(there, "game", 2, start=3)
 
     held.release()
     await sink.wait_for(5)
@@ -330,17 +331,17 @@ async def test_news_trimmed_before_it_was_read_loses_no_message(
 async def test_messages_too_large_for_the_news_keep_their_place(make_backend: MakeBackend):
     """Small messages come with the news, large ones are fetched from the channel's stream:
     one batch of news mixing both still delivers each once, in order."""
-    backend = make_backend()
-    held = HeldReads(backend)
+    here, there = make_backend(), make_backend()
+    held = HeldReads(here)
     sink, other = Collector(), Collector()
-    await backend.subscribe("game", sink, start=Start.NEWEST)
-    await backend.subscribe("lobby", other, start=Start.NEWEST)
+    await here.subscribe("game", sink, start=Start.NEWEST)
+    await here.subscribe("lobby", other, start=Start.NEWEST)
     large = b"x" * (redis_reader.NEWS_DATA_MAX + 1)
     bodies = [b"1", large + b"2", b"3", b"4", large + b"5", b"6"]
     ids = []
     for body in bodies:
-        ids.append((await backend.publish("game", body, "text/plain")).message.id)
-        await backend.publish("lobby", body[-1:], "text/plain")
+        ids.append((await there.publish("game", body, "text/plain")).message.id)
+        await there.publish("lobby", body[-1:], "text/plain")
 
     held.release()
     await sink.wait_for(len(bodies))
@@ -426,17 +427,23 @@ class ReplyCutter:
 
 async def test_a_publish_whose_answer_was_lost_is_not_sent_again(redis_server: RedisServer):
     """The publisher is told the store failed (503), and the message, which Redis did store, is
-    stored once: the pipeline is not sent again on a fresh connection."""
+    stored once: the pipeline is not sent again on a fresh connection. The replica's own
+    subscribers still get it, before the next."""
     async with ReplyCutter(redis_server.port) as cutter:
         backend = RedisBackend(BackendConfig(), cutter.url)
+        sink = Collector()
         try:
+            await backend.subscribe("game", sink, start=Start.NEWEST)
             first = await backend.publish("game", b"1", "text/plain")
             cutter.armed = True
             with pytest.raises(Unavailable):
                 await backend.publish("game", b"2", "text/plain")
             third = await backend.publish("game", b"3", "text/plain")  # a fresh connection
+            await sink.wait_for(3)
         finally:
             await backend.close()
+    messages = [event for event in sink.events if isinstance(event, StoredMessage)]
+    assert [message.data for message in messages] == [b"1", b"2", b"3"]
     admin = aioredis.from_url(redis_server.url)
     entries = await admin.xrange(redis_reader.stream_key("game"))
     await admin.aclose()
@@ -473,10 +480,10 @@ async def test_a_channels_keys_expire_a_day_after_its_last_renewal(
 
 
 async def test_a_replicas_own_message_reaches_its_subscribers_without_waiting_for_the_news(
-    make_backend: MakeBackend,
+    make_backend: MakeBackend, redis_url: str
 ) -> None:
-    """While the reader is held, what this replica publishes is delivered at once, in order;
-    the news' copies, read later, are dropped as old."""
+    """While the reader is held, what this replica publishes is delivered at once, in order,
+    and its own news stays empty: a replica alone on its channels reads no news."""
     backend = make_backend()
     held = HeldReads(backend)
     sink = Collector()
@@ -485,23 +492,91 @@ async def test_a_replicas_own_message_reaches_its_subscribers_without_waiting_fo
     assert sink.ids == ids  # before any news was read
     held.release()
     ids += await publish_many(backend, "game", 1, start=3)
-    await asyncio.sleep(0.2)  # room for a duplicate from the news to show up
+    await asyncio.sleep(0.2)  # room for a duplicate to show up
     assert sink.ids == ids
+    admin = aioredis.from_url(redis_url)
+    try:
+        assert await admin.xlen(redis_reader.news_key(backend.replica)) == 0
+    finally:
+        await admin.aclose()
 
 
-async def test_an_own_message_after_another_replicas_waits_for_it(
+async def test_an_own_message_after_another_replicas_does_not_overtake_it(
     make_backend: MakeBackend,
 ) -> None:
     """A message that follows one this replica has not read yet is not delivered ahead of
-    it: both come from the news, in the channel's order."""
+    it: the channel is read from its stream, both in order, without waiting for the news;
+    the news' copy of the first, read later, is dropped as old."""
     here, there = make_backend(), make_backend()
     held = HeldReads(here)
     sink = Collector()
     await here.subscribe("game", sink, start=Start.NEWEST)
     first = await there.publish("game", b"there", "text/plain")
     second = await here.publish("game", b"here", "text/plain")
-    await asyncio.sleep(0.1)
-    assert sink.events == []  # "here" follows "there", which the held reader has not read
-    held.release()
-    await sink.wait_for(2)
+    await sink.wait_for(2)  # the news reader is still held
     assert sink.ids == [first.message.id, second.message.id]
+    held.release()
+    third = await there.publish("game", b"there again", "text/plain")
+    await sink.wait_for(3)
+    await asyncio.sleep(0.1)  # room for a duplicate to show up
+    assert sink.ids == [first.message.id, second.message.id, third.message.id]
+
+
+async def test_a_replica_is_sent_news_only_of_the_channels_it_reads(
+    make_backend: MakeBackend, redis_url: str
+) -> None:
+    """Each replica's news holds other replicas' messages of its own channels, and no more
+    once its last subscriber of a channel has left."""
+    here, there = make_backend(), make_backend()
+    sink = Collector()
+    subscription = await here.subscribe("game", sink, start=Start.NEWEST)
+    await there.subscribe("lobby", Collector(), start=Start.NEWEST)
+    await there.publish("game", b"1", "text/plain")
+    await there.publish("lobby", b"2", "text/plain")
+    await sink.wait_for(1)
+    await here.unsubscribe(subscription)
+    await there.publish("game", b"3", "text/plain")
+    admin = aioredis.from_url(redis_url)
+    try:
+        news = await admin.xrange(redis_reader.news_key(here.replica))
+        assert [(fields[b"ch"], fields[b"d"]) for _, fields in news] == [(b"game", b"1")]
+        assert await admin.xlen(redis_reader.news_key(there.replica)) == 0
+        readers = redis_reader.channel_key("game", redis_reader.READERS_PART)
+        assert await admin.smembers(readers) == set()
+    finally:
+        await admin.aclose()
+
+
+async def test_subscribing_while_another_replica_publishes_misses_nothing(
+    make_backend: MakeBackend,
+) -> None:
+    """Subscribers that arrive on one replica while another publishes, as the channel's feed
+    there opens and closes, each get every message once and in order: the backlog, then the
+    live feed, with nothing between (a replica joins a channel's readers and reads its
+    position in one step, and leaves only after any join on its way)."""
+    here, there = make_backend(), make_backend()
+    sinks = [Collector() for _ in range(10)]
+    published: list[str] = []
+
+    async def publisher() -> None:
+        for n in range(60):
+            published.append((await there.publish("game", b"%d" % n, "text/plain")).message.id)
+            await asyncio.sleep(0)
+
+    async def subscriber(sink: Collector, delay: int) -> None:
+        for _ in range(delay):
+            await asyncio.sleep(0)
+        await here.subscribe("game", sink, start=Start.OLDEST)
+
+    async def churner() -> None:  # opens and closes the channel's feed until others hold it
+        while len(published) < 60:
+            await here.unsubscribe(await here.subscribe("game", Collector()))
+
+    await asyncio.gather(
+        publisher(), churner(), *(subscriber(sink, 8 * n + 4) for n, sink in enumerate(sinks))
+    )
+    for sink in sinks:
+        await sink.wait_for(60)
+    await asyncio.sleep(0.1)  # room for a duplicate to show up
+    for sink in sinks:
+        assert sink.ids == published
