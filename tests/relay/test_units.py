@@ -53,7 +53,16 @@ def test_tokens_expire_and_cannot_be_altered() -> None:
     with pytest.raises(AuthError) as refused:
         authority.authorize_publish(token, "g2")
     assert refused.value.status == 403
-    clock.now += 61
+    # Verified once, its claims are kept: an altered copy is still checked in full.
+    header, _, signature = token.split(".")
+    claims = jwt.decode(token, options={"verify_signature": False})
+    claims["channels"] = ["g1", "g2"]
+    altered = jwt.encode(claims, b"x" * 32, "HS256").split(".")[1]
+    for _ in range(2):
+        with pytest.raises(AuthError) as forged:
+            authority.verify(f"{header}.{altered}.{signature}")
+        assert forged.value.status == 401
+    clock.now += 61  # kept or not, an expired token is refused
     with pytest.raises(AuthError) as expired:
         authority.verify(token)
     assert expired.value.status == 401
