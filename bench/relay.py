@@ -11,6 +11,8 @@ this process is the load generator. For each target, on a freshly started server
 2. fan-out: 1 publisher (HTTP POST, 64 requests in flight) -> 1,000 subscribers of one
    channel, as fast as it goes: messages delivered per second.
 3. pairs: 1,000 channels x 2 subscribers, publishes spread round-robin over the channels.
+   Both run for seconds, and report the server's CPU time per delivered message (and, on
+   Redis, Redis' own), which the other processes on the machine sway less than the rates.
 4. For 2 and 3, a paced run at half the measured delivery rate gives the p50/p99
    publish-to-deliver latency (the payload carries its send time; one clock, one process).
 
@@ -102,7 +104,7 @@ class Sizes:
     publishers_in_flight: int = 64
 
 
-FULL = Sizes(10_000, 1_000, 1_000, 200, 1_000, 6_000, 4.0)
+FULL = Sizes(10_000, 1_000, 1_000, 200, 1_000, 24_000, 4.0)
 QUICK = Sizes(2_000, 200, 1_000, 40, 1_000, 1_500, 1.5)
 
 
@@ -144,11 +146,17 @@ def bare_app() -> web.Application:
 
 
 def relay_app(redis_url: str | None) -> web.Application:
-    """The real relay, every feature on; only the per-publisher rate limit is lifted."""
+    """The real relay, every feature on; only the per-publisher rate limits are lifted."""
     from server.app import AppSettings, create_app
     from server.relay.settings import RelaySettings
 
-    relay = RelaySettings(auth_secret=SECRET, publish_rate=1e9, publish_burst=10**9)
+    relay = RelaySettings(
+        auth_secret=SECRET,
+        publish_rate=1e9,
+        publish_burst=10**9,
+        server_publish_rate=1e9,
+        server_publish_burst=10**9,
+    )
     return create_app(AppSettings(relay=relay, redis_url=redis_url))
 
 
@@ -197,10 +205,18 @@ def children(pid: int) -> list[int]:
 class ServerProcess(AbstractContextManager["ServerProcess"]):
     """A server subprocess on a free port; `measured_pids` are those whose RSS counts."""
 
-    def __init__(self, args: list[str], what: str, port: int, redis_url: str | None = None) -> None:
+    def __init__(
+        self,
+        args: list[str],
+        what: str,
+        port: int,
+        redis_url: str | None = None,
+        redis_pid: int | None = None,
+    ) -> None:
         self.port = port
         self.what = what
         self.redis_url = redis_url
+        self.redis_pid = redis_pid
         self.process = subprocess.Popen(args, stdout=subprocess.DEVNULL)
         wait_for_port(port, self.process, what)
 
@@ -212,6 +228,9 @@ class ServerProcess(AbstractContextManager["ServerProcess"]):
 
     def cpu_seconds(self) -> float:
         return sum(cpu_seconds(pid) for pid in self.measured_pids())
+
+    def redis_cpu_seconds(self) -> float:
+        return cpu_seconds(self.redis_pid) if self.redis_pid is not None else 0.0
 
     async def settle(self) -> None:
         """Wait until the server is idle (done closing the last phase's connections)."""
@@ -293,7 +312,7 @@ def start_target(target: str, stack: ExitStack) -> ServerProcess | None:
     base, use_uvloop = target.removesuffix(UVLOOP), target.endswith(UVLOOP)
     if use_uvloop and importlib.util.find_spec("uvloop") is None:
         return None
-    redis_url = None
+    redis_url, redis_pid = None, None
     if base == "redis":
         from tests.redis_server import RedisServer
 
@@ -301,11 +320,13 @@ def start_target(target: str, stack: ExitStack) -> ServerProcess | None:
         redis.start()
         stack.callback(redis.stop)
         redis_url = redis.url
+        assert redis.process is not None
+        redis_pid = redis.process.pid
     kind = "bare" if base == "bare" else "relay"
     args = [sys.executable, __file__, "--serve", kind, "--port", str(port)]
     args += ["--redis", redis_url] if redis_url else []
     args += ["--uvloop"] if use_uvloop else []
-    return stack.enter_context(ServerProcess(args, target, port, redis_url))
+    return stack.enter_context(ServerProcess(args, target, port, redis_url, redis_pid))
 
 
 # ----- load generator ------------------------------------------------------------------------
@@ -497,8 +518,15 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
             if server.redis_url is not None:
                 result[f"{name}_redis"] = await redis_connections(server.redis_url)
             load.receiver.reset()
+            cpu, redis_cpu = server.cpu_seconds(), server.redis_cpu_seconds()
             rate = await load.saturate(channel_of, messages, fanout)
             result[f"{name}_rate"] = rate
+            delivered = max(load.receiver.count, 1)
+            result[f"{name}_cpu"] = (server.cpu_seconds() - cpu) / delivered * 1e6
+            if server.redis_pid is not None:
+                result[f"{name}_redis_cpu"] = (
+                    (server.redis_cpu_seconds() - redis_cpu) / delivered * 1e6
+                )
             result[f"{name}_p50"], result[f"{name}_p99"] = await load.paced(
                 channel_of, rate / 2, fanout
             )
@@ -513,9 +541,13 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
 # ----- report --------------------------------------------------------------------------------
 ROWS = (
     ("fanout_rate", "fan-out 1->1000, delivered msg/s", "{:,.0f}", True),
+    ("fanout_cpu", "  server CPU per delivery, us", "{:.1f}", False),
+    ("fanout_redis_cpu", "  Redis CPU per delivery, us", "{:.1f}", False),
     ("fanout_p50", "  p50 latency at half load, ms", "{:.1f}", False),
     ("fanout_p99", "  p99 latency at half load, ms", "{:.1f}", False),
     ("pairs_rate", "1000 channels x 2, delivered msg/s", "{:,.0f}", True),
+    ("pairs_cpu", "  server CPU per delivery, us", "{:.1f}", False),
+    ("pairs_redis_cpu", "  Redis CPU per delivery, us", "{:.1f}", False),
     ("pairs_p50", "  p50 latency at half load, ms", "{:.1f}", False),
     ("pairs_p99", "  p99 latency at half load, ms", "{:.1f}", False),
     ("kb_per_conn", "memory per idle WebSocket, KB", "{:.1f}", False),

@@ -180,16 +180,24 @@ local function subscribers(subs, replicas, now, alive)
   return total
 end
 
--- Append `fields` to the news of each living reader of a channel but `author` (whose own
--- subscribers are served as it publishes or deletes). A reader that missed news while it was
--- not counted as living sees the gap in its next message's predecessor.
-local function announce(readers, replicas, now, alive, author, kept, fields)
+-- The news streams of a channel's living readers but `author` (whose own subscribers are
+-- served as it publishes or deletes). A reader that missed news while it was not counted as
+-- living sees the gap in its next message's predecessor.
+local function audience(readers, replicas, now, alive, author)
+  local streams = {}
   for _, reader in ipairs(redis.call('SMEMBERS', readers)) do
     if reader ~= author and living(replicas, reader, now, alive) then
-      local news = 'relay:news:' .. reader  -- as `news_key` names it
-      redis.call('XADD', news, 'MAXLEN', '~', kept, '*',
-        'n', redis.call('INCR', news .. ':sequence'), unpack(fields))
+      table.insert(streams, 'relay:news:' .. reader)  -- as `news_key` names it
     end
+  end
+  return streams
+end
+
+-- Append `fields` to each of the news `streams`, with the stream's next sequence number.
+local function announce(streams, kept, fields)
+  for _, news in ipairs(streams) do
+    redis.call('XADD', news, 'MAXLEN', '~', kept, '*',
+      'n', redis.call('INCR', news .. ':sequence'), unpack(fields))
   end
 end
 """
@@ -213,11 +221,14 @@ if ARGV[8] ~= '' then
 end
 local id = redis.call('XADD', KEYS[1], seconds .. '-*', unpack(fields))
 local previous = meta[1] or '0-0'
-local news = {'ch', ARGV[9], 'id', id, 'p', previous}
-if #ARGV[7] <= tonumber(ARGV[12]) then
-  for i = 1, #fields do table.insert(news, fields[i]) end
+local streams = audience(KEYS[5], KEYS[4], now, tonumber(ARGV[4]), ARGV[10])
+if #streams > 0 then  -- most channels are read only where they are published
+  local news = {'ch', ARGV[9], 'id', id, 'p', previous}
+  if #ARGV[7] <= tonumber(ARGV[12]) then
+    for i = 1, #fields do table.insert(news, fields[i]) end
+  end
+  announce(streams, ARGV[11], news)
 end
-announce(KEYS[5], KEYS[4], now, tonumber(ARGV[4]), ARGV[10], ARGV[11], news)
 local count = redis.call('XLEN', KEYS[1])
 local known = tonumber(meta[3]) or false
 local first = known
@@ -292,7 +303,8 @@ if redis.call('EXISTS', KEYS[1]) == 1 then
   redis.call('EXPIRE', KEYS[6], ARGV[5])
 end
 redis.call('DEL', KEYS[3])
-announce(KEYS[5], KEYS[4], now, tonumber(ARGV[1]), ARGV[3], ARGV[4], {'ch', ARGV[2], 'r', ARGV[3]})
+announce(audience(KEYS[5], KEYS[4], now, tonumber(ARGV[1]), ARGV[3]), ARGV[4],
+  {'ch', ARGV[2], 'r', ARGV[3]})
 redis.call('DEL', KEYS[5])
 return existed and 1 or 0
 """
@@ -317,6 +329,23 @@ redis.call('ZREMRANGEBYSCORE', KEYS[1], '-inf', now - 3600)
 redis.call('EXPIRE', KEYS[2], ARGV[2])
 redis.call('EXPIRE', KEYS[3], ARGV[2])
 """
+
+
+@functools.lru_cache(maxsize=4096)
+def _publish_keys(channel: str) -> tuple[str, ...]:
+    """The publish script's keys for `channel` (a game table publishes again and again)."""
+    return (
+        channel_key(channel, "stream"),
+        channel_key(channel, "meta"),
+        channel_key(channel, "subs"),
+        REPLICAS_KEY,
+        channel_key(channel, READERS_PART),
+    )
+
+
+def _encoded(values: tuple[Any, ...]) -> tuple[bytes, ...]:
+    """Script arguments as Redis receives them, so that no publish converts them again."""
+    return tuple(str(value).encode() for value in values)
 
 
 def _keys(channel: str) -> dict[str, str]:
@@ -405,30 +434,22 @@ class RedisBackend(Backend):
         return [self.config.buffer_length, self.config.message_ttl, self.config.buffer_bytes]
 
     @functools.cached_property
-    def _publish_bounds(self) -> tuple[Any, ...]:
-        return (*self._bounds, ALIVE_S, IDLE_KEY_S)
+    def _publish_bounds(self) -> tuple[bytes, ...]:
+        """The publish script's arguments before the message's, encoded once."""
+        return _encoded((*self._bounds, ALIVE_S, IDLE_KEY_S))
+
+    @functools.cached_property
+    def _publish_tail(self) -> tuple[bytes, ...]:
+        """The publish script's arguments after the channel's, encoded once."""
+        return _encoded((self.replica, *_NEWS_LAST))
 
     async def publish(
         self, channel: str, data: bytes, content_type: str, event: str | None = None
     ) -> Published:
         try:
+            message_args = (content_type, data, event or "", channel)
             reply = await self._publish(
-                [
-                    channel_key(channel, "stream"),
-                    channel_key(channel, "meta"),
-                    channel_key(channel, "subs"),
-                    REPLICAS_KEY,
-                    channel_key(channel, READERS_PART),
-                ],
-                [
-                    *self._publish_bounds,
-                    content_type,
-                    data,
-                    event or "",
-                    channel,
-                    self.replica,
-                    *_NEWS_LAST,
-                ],
+                _publish_keys(channel), (*self._publish_bounds, *message_args, *self._publish_tail)
             )
         except REDIS_DOWN as error:
             raise _unavailable(error) from None

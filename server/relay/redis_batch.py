@@ -27,13 +27,14 @@ from __future__ import annotations
 
 import asyncio
 import hashlib
+from collections.abc import Sequence
 from typing import Any
 
 from redis.exceptions import ResponseError
 
 from server.relay.resp import Connection, pack
 
-Call = tuple[list[Any], list[Any], "asyncio.Future[Any]"]
+Call = tuple[Sequence[Any], Sequence[Any], "asyncio.Future[Any]"]
 
 
 class ScriptBatcher:
@@ -53,7 +54,7 @@ class ScriptBatcher:
         self._idle: list[Connection] = []  # open connections with no pipeline on their way
         self._closed = False
 
-    async def __call__(self, keys: list[Any], args: list[Any]) -> Any:
+    async def __call__(self, keys: Sequence[Any], args: Sequence[Any]) -> Any:
         future: asyncio.Future[Any] = asyncio.get_running_loop().create_future()
         self._waiting.append((keys, args, future))
         self._schedule()
@@ -95,7 +96,7 @@ class ScriptBatcher:
             else:
                 future.set_result(reply)
 
-    async def _execute(self, calls: list[tuple[list[Any], list[Any]]]) -> list[Any]:
+    async def _execute(self, calls: list[tuple[Sequence[Any], Sequence[Any]]]) -> list[Any]:
         replies = await self._pipeline(
             b"".join(self._evalsha(keys, args) for keys, args in calls), len(calls)
         )
@@ -111,7 +112,7 @@ class ScriptBatcher:
                 replies[n] = reply
         return replies
 
-    def _evalsha(self, keys: list[Any], args: list[Any]) -> bytes:
+    def _evalsha(self, keys: Sequence[Any], args: Sequence[Any]) -> bytes:
         return pack("EVALSHA", self._sha, len(keys), *keys, *args)
 
     async def _pipeline(self, packed: bytes, count: int) -> list[Any]:
