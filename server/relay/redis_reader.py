@@ -102,7 +102,7 @@ def news_key(replica: str) -> str:
 
 def news_sequence_key(replica: str) -> str:
     """The sequence number of the newest entry of a replica's news."""
-    return f"relay:news:{replica}:sequence"
+    return f"{news_key(replica)}:sequence"
 
 
 def _pairs(flat: list[bytes]) -> Fields:
