@@ -250,8 +250,7 @@ class ReplicaReader:
         from its stream (guarantee 2); if it is not newer, it was delivered already."""
         at = self._positions.get(channel)
         if at is None:
-            if channel in self._starting:  # stored after the position being read: fetch it
-                self._starting[channel] = True
+            self._missed_while_starting(channel)
             return False
         if at.stream_id == previous:
             at.move_to(stream_id)
@@ -259,6 +258,12 @@ class ReplicaReader:
         if stream_order(stream_id) > at.order:
             self._fall_behind(channel)
         return False
+
+    def _missed_while_starting(self, channel: str) -> None:
+        """A message of `channel` came while its position was being read: it may be newer, so
+        the channel is read from its stream once the position is known."""
+        if channel in self._starting:
+            self._starting[channel] = True
 
     def _fall_behind(self, channel: str) -> None:
         """Read `channel` from its stream after its position, soon (guarantee 2)."""
@@ -352,8 +357,7 @@ class ReplicaReader:
             channel = fields[b"ch"].decode()
             at = self._positions.get(channel)
             if at is None:
-                if channel in self._starting:
-                    self._starting[channel] = True
+                self._missed_while_starting(channel)
                 continue
             if b"r" in fields:  # a delete
                 to_fetch.pop(channel, None)  # what it had not read is in the deleted stream
