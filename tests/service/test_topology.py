@@ -447,9 +447,16 @@ async def test_a_match_goes_on_when_a_replica_dies(
     # Once nginx has seen the feed end (it logs a WebSocket when it closes), the dead replica
     # has the fewest connections: least_conn picks it, and nginx passes the request on.
     await topology.nginx.logged(lambda e: e.path.startswith("/sub/table-") and dead in e.upstreams)
-    for _ in range(2 * REPLICAS):
+    # A player's feed reconnecting may have been passed on first, and is logged only when it
+    # closes; its failures can make nginx skip the dead replica for fail_timeout (5 s): so
+    # requests go on until one passed on from the dead replica is logged.
+    deadline, sent = time.monotonic() + WAIT_S, 0
+    while sent < 2 * REPLICAS or not [e for e in topology.nginx.log() if dead in e.upstreams[:-1]]:
+        assert time.monotonic() < deadline, "nginx passed no request on from the dead replica"
         async with topology.http.get(f"{topology.url}/api/tables") as response:
             assert response.status == 200, await response.text()
+        sent += 1
+        await asyncio.sleep(0.05 if sent >= 2 * REPLICAS else 0)
     passed_on = [e for e in topology.nginx.log() if dead in e.upstreams[:-1]]
     assert passed_on and all(e.status < 500 and e.upstreams[-1] != dead for e in passed_on)
     # Both players finish the match through the remaining replicas, the feed that died
