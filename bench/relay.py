@@ -3,7 +3,13 @@
     .venv/bin/python bench/relay.py [--quick] [--repeat N] [--targets memory,redis,bare,...]
 
 Every target runs as its own server process on 127.0.0.1 (one process / one nginx worker);
-this process is the load generator. For each target, on a freshly started server:
+this process is the load generator, on the lean WebSocket and HTTP clients of
+bench/loadgen.py (through aiohttp's client it cost as much CPU per message as the server).
+Where the machine has two cores or more, the server gets one of them to itself and the load
+generator and Redis share the others (`pin`): in production the clients and Redis run on other
+machines, and when the three competed for two cores, Redis waited for a core about a fifth of
+the time and the server a tenth, so the figures measured the scheduler as much as the relay.
+For each target, on a freshly started server:
 
 1. capacity: open up to `capacity` idle WebSocket subscribers, spread over channels; the RSS
    growth of the server divided by the connections is the memory per idle connection; then one
@@ -64,9 +70,9 @@ from contextlib import AbstractContextManager, ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import aiohttp
 import msgpack
 from aiohttp import web
+from loadgen import ProtocolError, Publishers, Subscriber  # bench/loadgen.py, beside this file
 
 ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
@@ -84,6 +90,7 @@ FD_LIMIT = 20_000
 START_TIMEOUT_S = 15.0
 DELIVERY_TIMEOUT_S = 20.0  # after the last publish, waiting for stragglers
 CONNECT_CONCURRENCY = 200
+CONNECT_TIMEOUT_S = 10.0
 SETTLE_TIMEOUT_S = 30.0
 PAD = "x" * 64
 
@@ -293,6 +300,23 @@ http {{
 """
 
 
+CORES = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else []
+
+
+def pin(server: ServerProcess) -> str:
+    """Give the server the last core to itself; this process and Redis get the others (see
+    the module docstring). Says where each runs."""
+    if len(CORES) < 2:
+        return "nothing pinned (fewer than 2 cores)"
+    own, rest = {CORES[-1]}, set(CORES[:-1])
+    for pid in server.measured_pids():
+        os.sched_setaffinity(pid, own)
+    os.sched_setaffinity(0, rest)
+    if server.redis_pid is not None:
+        os.sched_setaffinity(server.redis_pid, rest)
+    return f"server on core {CORES[-1]}, load generator and Redis on {sorted(rest)}"
+
+
 def start_target(target: str, stack: ExitStack) -> ServerProcess | None:
     """Start one target's server (and its Redis); None if it cannot run here."""
     port = free_port()
@@ -365,26 +389,19 @@ class Receiver:
             await asyncio.sleep(0.02)
 
 
-async def read_forever(ws: aiohttp.ClientWebSocketResponse, receiver: Receiver) -> None:
-    async for message in ws:
-        if message.type in (aiohttp.WSMsgType.TEXT, aiohttp.WSMsgType.BINARY):
-            receiver.take(message.data)
-
-
 class Load:
-    """The load generator's side of one target: subscribers and a publisher."""
+    """The load generator's side of one target: subscribers and publishers (bench/loadgen.py)."""
 
-    def __init__(self, port: int, session: aiohttp.ClientSession, sizes: Sizes) -> None:
+    def __init__(self, port: int, sizes: Sizes) -> None:
         self.sizes = sizes
-        self.base = f"http://{HOST}:{port}"
-        self.session = session
+        self.port = port
         self.receiver = Receiver()
-        self.sockets: list[aiohttp.ClientWebSocketResponse] = []
-        self.readers: list[asyncio.Task[None]] = []
+        self.sockets: list[Subscriber] = []
         from server.relay.auth import TokenAuthority
 
         token = TokenAuthority(SECRET.encode(), "public-").issue("bench", [], 3600, server=True)
-        self.headers = {"Content-Type": "application/json", "Authorization": f"Bearer {token}"}
+        headers = {"Content-Type": "application/json", "Authorization": f"Bearer {token}"}
+        self.publishers = Publishers(HOST, port, headers)
 
     async def subscribe(self, channels: list[str]) -> int:
         """Open one WebSocket subscriber per entry of `channels`; how many opened."""
@@ -393,32 +410,29 @@ class Load:
         async def one(channel: str) -> None:
             async with gate:
                 try:
-                    ws = await self.session.ws_connect(f"{self.base}/sub/{channel}")
-                except (aiohttp.ClientError, OSError, TimeoutError):
+                    subscriber = await asyncio.wait_for(
+                        Subscriber.open(HOST, self.port, f"/sub/{channel}", self.receiver.take),
+                        CONNECT_TIMEOUT_S,
+                    )
+                except (OSError, ProtocolError, TimeoutError):
                     return
-            self.sockets.append(ws)
-            self.readers.append(asyncio.create_task(read_forever(ws, self.receiver)))
+            self.sockets.append(subscriber)
 
         await asyncio.gather(*(one(channel) for channel in channels))
         return len(self.sockets)
 
-    async def close(self) -> None:
-        for reader in self.readers:
-            reader.cancel()
-        await asyncio.gather(*self.readers, return_exceptions=True)
-        await asyncio.gather(*(ws.close() for ws in self.sockets), return_exceptions=True)
+    def close(self) -> None:
+        """Close every subscriber (the publishers' connections stay for the next phase)."""
+        for subscriber in self.sockets:
+            subscriber.close()
         self.sockets.clear()
-        self.readers.clear()
-        self.receiver = Receiver()
+        self.receiver.reset()
 
     async def publish(self, channel: str) -> None:
-        body = json.dumps({"t": time.monotonic_ns(), "pad": PAD})
-        async with self.session.post(
-            f"{self.base}/pub/{channel}", data=body, headers=self.headers
-        ) as response:
-            await response.read()
-            if response.status not in (200, 201, 202):
-                raise RuntimeError(f"publish to {channel}: HTTP {response.status}")
+        body = json.dumps({"t": time.monotonic_ns(), "pad": PAD}).encode()
+        status = await self.publishers.post(f"/pub/{channel}", body)
+        if status not in (200, 201, 202):
+            raise RuntimeError(f"publish to {channel}: HTTP {status}")
 
     async def saturate(self, channel_of: Callable[[int], str], messages: int, fanout: int) -> float:
         """Publish `messages` with a few in flight; deliveries per second until the last."""
@@ -476,13 +490,11 @@ async def redis_connections(redis_url: str) -> int:
 async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str, float]:
     """All phases against one running server."""
     result: dict[str, float] = {}
-    timeout = aiohttp.ClientTimeout(total=None, sock_connect=10, sock_read=30)
-    connector = aiohttp.TCPConnector(limit=0, force_close=False)
-    async with aiohttp.ClientSession(timeout=timeout, connector=connector) as session:
-        load = Load(server.port, session, sizes)
+    load = Load(server.port, sizes)
+    try:
         # Warm up code paths, then measure idle connections.
         await load.subscribe([f"warm-{i}" for i in range(50)])
-        await load.close()
+        load.close()
         await server.settle()
         before = server.rss_kb()
         channels = [f"cap-{i % sizes.capacity_channels}" for i in range(sizes.capacity)]
@@ -494,7 +506,7 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
             await load.publish(f"cap-{i}")
         await load.receiver.wait_for(held_before + opened, DELIVERY_TIMEOUT_S)
         result["held"] = load.receiver.count - held_before
-        await load.close()
+        load.close()
         await server.settle()
         print(f"  {target}: capacity done ({result['held']:.0f} held)", file=sys.stderr)
 
@@ -531,10 +543,13 @@ async def measure(target: str, server: ServerProcess, sizes: Sizes) -> dict[str,
                 channel_of, rate / 2, fanout
             )
             gc.enable()
-            await load.close()
+            load.close()
             gc.unfreeze()
             await server.settle()
             print(f"  {target}: {name} done ({rate:,.0f} msg/s)", file=sys.stderr)
+    finally:
+        load.close()
+        load.publishers.close()
     return result
 
 
@@ -655,6 +670,7 @@ def main() -> int:
     if "nchan" in targets and shutil.which("nginx") is None and not Path(NGINX).exists():
         print("nginx not found: apt-get install -y nginx libnginx-mod-nchan", file=sys.stderr)
     runs: dict[str, list[dict[str, float]]] = {target: [] for target in targets}
+    placement, started = "no target ran", cpu_times()
     for round_ in range(args.repeat):
         # Rotate the order so that a slow spell of the shared machine hits every target.
         shift = round_ % len(targets)
@@ -662,8 +678,11 @@ def main() -> int:
             with ExitStack() as stack:
                 server = start_target(target, stack)
                 if server is not None:
+                    placement = pin(server)
                     runs[target].append(asyncio.run(measure(target, server, sizes)))
-    print(f"sizes: {sizes}, medians of {args.repeat} run(s) per target; {machine_load()}")
+    print(f"sizes: {sizes}, medians of {args.repeat} run(s) per target")
+    print(machine_load(started))
+    print(f"placement: {placement}")
     report({target: median_run(measured) for target, measured in runs.items()}, sizes)
     return 0
 
@@ -675,9 +694,22 @@ def median_run(measured: list[dict[str, float]]) -> dict[str, float] | None:
     return {key: statistics.median(run[key] for run in measured) for key in measured[0]}
 
 
-def machine_load() -> str:
-    """The 1-minute load average and the core count: how busy the shared machine was."""
-    return f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores"
+def machine_load(since: tuple[int, int]) -> str:
+    """The 1-minute load average, the core count, and the share of the machine's CPU time that
+    its hypervisor gave to other guests since `since` (a `cpu_times()`): how busy the shared
+    machine was."""
+    total, steal = (now - then for now, then in zip(cpu_times(), since, strict=True))
+    stolen = f"{steal / total:.0%}" if total else "-"
+    return (
+        f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores; "
+        f"CPU time stolen by the hypervisor during the run: {stolen}"
+    )
+
+
+def cpu_times() -> tuple[int, int]:
+    """All CPU time and stolen CPU time so far, in ticks (/proc/stat's `cpu` line)."""
+    fields = [int(field) for field in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
+    return sum(fields[:8]), fields[7]  # user nice system idle iowait irq softirq steal
 
 
 if __name__ == "__main__":
