@@ -42,13 +42,13 @@ def _masked_frame(opcode: int, payload: bytes) -> bytes:
     return bytes((0x80 | opcode, 0x80 | len(payload))) + mask + body
 
 
-def _header(head: bytes, name: bytes) -> bytes | None:
-    """The value of header `name` (lower case) in a response head, if present."""
+def _headers(head: bytes) -> dict[bytes, bytes]:
+    """A response head's header fields, names in lower case (the status line left out)."""
+    fields = {}
     for line in head.split(b"\r\n")[1:]:
         key, _, value = line.partition(b":")
-        if key.strip().lower() == name:
-            return value.strip()
-    return None
+        fields[key.strip().lower()] = value.strip()
+    return fields
 
 
 class Subscriber(asyncio.Protocol):
@@ -113,9 +113,8 @@ class Subscriber(asyncio.Protocol):
             return False
         head = bytes(self._buffer[:end])
         del self._buffer[: end + len(HEAD_END)]
-        if not head.startswith(b"HTTP/1.1 101") or _header(head, b"sec-websocket-accept") != (
-            self._accept
-        ):
+        accepted = _headers(head).get(b"sec-websocket-accept") == self._accept
+        if not head.startswith(b"HTTP/1.1 101") or not accepted:
             self.upgraded.set_exception(ProtocolError(head.split(b"\r\n", 1)[0].decode()))
             self.close()
             return False
@@ -220,12 +219,13 @@ class _Exchange(asyncio.Protocol):
                 return None
             self._head = bytes(buffer[:end])
             del buffer[: end + len(HEAD_END)]
-            length = _header(self._head, b"content-length")
-            chunked = _header(self._head, b"transfer-encoding") == b"chunked"
+            headers = _headers(self._head)
+            length = headers.get(b"content-length")
+            chunked = headers.get(b"transfer-encoding") == b"chunked"
             if length is None and not chunked:
                 raise ProtocolError("a response with neither Content-Length nor chunks")
             self._body_end = -1 if chunked else int(length or 0)
-            self.retire = _header(self._head, b"connection") == b"close"
+            self.retire = headers.get(b"connection") == b"close"
         if self._body_end >= 0:
             if len(buffer) < self._body_end:
                 return None
