@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 from collections.abc import AsyncIterator, Awaitable, Callable
 from dataclasses import dataclass, field
 from typing import TypeVar
@@ -20,7 +19,7 @@ from aiohttp import web
 from pydantic import BaseModel, ValidationError
 from redis.exceptions import RedisError
 
-from server import tables
+from server import commands, tables
 from server.api_models import (
     ApiError,
     BreakEntry,
@@ -31,7 +30,6 @@ from server.api_models import (
     IntentAccepted,
     IntentDuplicate,
     Leaderboard,
-    Mode,
     PlayerCreate,
     PlayerInfo,
     PlayerRatings,
@@ -43,7 +41,6 @@ from server.api_models import (
     RatingView,
     ReplayShots,
     ReplayView,
-    Status,
     TableCreate,
     TableList,
     TableView,
@@ -203,108 +200,53 @@ async def list_tables(request: web.Request) -> web.Response:
 
 
 async def get_table(request: web.Request) -> web.Response:
-    record = await table_of(request)
-    service = service_of(request)
-    service.matches.owner(record.id).poke()
-    return answer(await full_view(service, record))
+    """A read: it starts no work (no bot search, no replay of an abandoned input)."""
+    return answer(await full_view(service_of(request), await table_of(request)))
 
 
-async def _change(
-    request: web.Request, change: Callable[[TableRecord], TableRecord]
-) -> web.Response:
+async def _ask(request: web.Request, command: commands.ClientCommand) -> object:
+    """Hand `command` to the table's actor and return its answer (after a cheap look that
+    the table exists, so that unknown ids start no actor)."""
     service = service_of(request)
     await table_of(request)
-    after = await service.matches.owner(request.match_info["table"]).change(change)
-    return answer(await full_view(service, after))
+    return await service.matches.owner(request.match_info["table"]).ask(command)
 
 
-def _seated(record: TableRecord, player: PlayerInfo) -> int:
-    seat = tables.seat_of(record, player.id)
-    if seat is None:
-        raise ServiceError(ErrorCode.FORBIDDEN, "you do not sit at this table")
-    return seat
+async def _seat_command(
+    request: web.Request, make: Callable[[PlayerInfo], commands.ClientCommand]
+) -> web.Response:
+    """Join, leave, resign, claim and rematch: the command, then the table as it now is."""
+    player = await player_of(request)
+    after = await _ask(request, make(player))
+    assert isinstance(after, TableRecord)
+    return answer(await full_view(service_of(request), after))
 
 
 async def join(request: web.Request) -> web.Response:
-    player = await player_of(request)
-    return await _change(request, lambda record: tables.join(record, player))
+    return await _seat_command(request, commands.Join)
 
 
 async def leave(request: web.Request) -> web.Response:
-    player = await player_of(request)
-
-    def cancel(record: TableRecord) -> TableRecord:
-        _seated(record, player)
-        if record.status is not Status.OPEN:
-            raise ServiceError(ErrorCode.WRONG_PHASE, "the table has started: resign instead")
-        return tables.bump(record, status=Status.CANCELLED)
-
-    return await _change(request, cancel)
+    return await _seat_command(request, commands.Leave)
 
 
 async def resign(request: web.Request) -> web.Response:
-    player = await player_of(request)
-
-    def give_up(record: TableRecord) -> TableRecord:
-        seat = _seated(record, player)
-        if record.status is not Status.PLAYING:
-            raise ServiceError(ErrorCode.WRONG_PHASE, f"the table is {record.status.value}")
-        winner = None if record.mode is Mode.PRACTICE else 1 - seat
-        return tables.bump(record, status=Status.OVER, winner=winner)
-
-    return await _change(request, give_up)
+    return await _seat_command(request, commands.Resign)
 
 
 async def claim(request: web.Request) -> web.Response:
-    player = await player_of(request)
-    service = service_of(request)
-    seen = await service.storage.heartbeats(request.match_info["table"])
-
-    def win(record: TableRecord) -> TableRecord:
-        seat = _seated(record, player)
-        if record.status is not Status.PLAYING or record.mode is not Mode.MATCH:
-            raise ServiceError(ErrorCode.WRONG_PHASE, "there is no match to claim")
-        until = tables.grace_until(record, seen, time.time(), service.grace)[1 - seat]
-        if until is None or time.time() < until:
-            raise ServiceError(ErrorCode.WRONG_PHASE, "your opponent is here or within grace")
-        return tables.bump(record, status=Status.OVER, winner=seat)
-
-    return await _change(request, win)
+    return await _seat_command(request, commands.Claim)
 
 
 async def rematch(request: web.Request) -> web.Response:
-    player = await player_of(request)
-    service = service_of(request)
-    record = await table_of(request)
-    seat = _seated(record, player)
-    if record.status is not Status.OVER or record.mode is not Mode.MATCH:
-        raise ServiceError(ErrorCode.WRONG_PHASE, "a rematch follows a finished match")
-    new_id = None
-    if record.rematch[1 - seat] and record.rematch_table is None:
-        # The seats swap, so the break alternates: seat 0 breaks a table's first rack.
-        create = TableCreate(game=record.game, **record.options.model_dump())
-        first, second = record.seats[1], record.seats[0]
-        fresh = tables.join(tables.new_table(new_table_id(), create, first, new_seed()), second)
-        await service.storage.create_table(fresh)
-        service.lobby.changed()
-        new_id = fresh.id
-
-    def offer(current: TableRecord) -> TableRecord:
-        offers = list(current.rematch)
-        offers[seat] = True
-        update: dict = {"rematch": (offers[0], offers[1])}
-        if new_id is not None and current.rematch_table is None:
-            update["rematch_table"] = new_id
-        return tables.bump(current, **update)
-
-    return await _change(request, offer)
+    return await _seat_command(request, commands.Rematch)
 
 
 async def intent(request: web.Request) -> web.Response:
     player = await player_of(request)
     body = await parse(request, Intent)
-    record = await table_of(request)
-    result = await service_of(request).matches.owner(record.id).intent(player, body)
+    result = await _ask(request, commands.Play(player, body))
+    assert isinstance(result, IntentAccepted | IntentDuplicate)
     return answer(result, 202 if isinstance(result, IntentAccepted) else 200)
 
 
@@ -312,22 +254,9 @@ async def heartbeat(request: web.Request) -> web.Response:
     player = await player_of(request)
     service = service_of(request)
     service.throttle("heartbeat", player.id)
-    record = await table_of(request)
-    seat = _seated(record, player)
-    now = time.time()
-    await service.storage.heartbeat(record.id, seat, now)
+    message = await _ask(request, commands.Heartbeat(player))
+    assert isinstance(message, PresenceMessage)
     await service.identity.seen(player)
-    service.matches.owner(record.id).poke()
-    seen = await service.storage.heartbeats(record.id)
-    message = PresenceMessage(
-        version=record.version,
-        presence=tables.presence(record, seen, now),
-        grace_until=tables.grace_until(record, seen, now, service.grace),
-    )
-    last = service.presence.get(record.id)
-    if last is None or last.presence != message.presence:
-        service.presence[record.id] = message
-        await service.publisher.publish(record.channel, message)
     return answer(message)
 
 
@@ -335,15 +264,9 @@ async def quick_message(request: web.Request) -> web.Response:
     player = await player_of(request)
     body = await parse(request, QuickMessageRequest)
     service = service_of(request)
-    record = await table_of(request)
-    service.throttle("chat", f"{record.id}:{player.id}")
-    message = ChatMessage(
-        version=record.version,
-        from_name=player.name,
-        seat=tables.seat_of(record, player.id),
-        message=body.message,
-    )
-    await service.publisher.publish(record.channel, message)
+    service.throttle("chat", f"{request.match_info['table']}:{player.id}")
+    message = await _ask(request, commands.QuickMessage(player, body.message))
+    assert isinstance(message, ChatMessage)
     return answer(message, 201)
 
 

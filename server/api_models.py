@@ -23,6 +23,12 @@ PROTOCOL = 1
 #: life): a player is shown disconnected after tables.PRESENCE_TIMEOUT (10 s) without one, so
 #: two may be lost before that happens.
 HEARTBEAT_INTERVAL = 3.0
+#: Seconds between the `GET /api/quick` polls of a client waiting for a quick match: a request
+#: lapses `QUICK_LAPSE` seconds after its last poll, so a client that died is never paired.
+QUICK_POLL = 5.0
+QUICK_LAPSE = 3 * QUICK_POLL
+#: The shot clock of a quick match (s): no seat of a pairing may hold the match forever.
+QUICK_SHOT_CLOCK = 60
 
 
 def json_int(low: int, high: int | None = None) -> object:
@@ -40,7 +46,13 @@ _ANSWER = ConfigDict(frozen=True)
 #: Letters, digits, `_`, `-`, `.` and inner spaces: nothing a page could take for markup.
 NAME_PATTERN = r"^[A-Za-z0-9_.\-](?:[A-Za-z0-9_. \-]*[A-Za-z0-9_.\-])?$"
 DisplayName = Annotated[str, StringConstraints(min_length=1, max_length=24, pattern=NAME_PATTERN)]
+#: A client's shot id: no `:`, so that the server's own inputs (server/commands.py,
+#: `clock:<version>` and `bot:<version>`) live where no client can write.
 ShotId = Annotated[str, StringConstraints(pattern=r"^[A-Za-z0-9_-]{8,64}$")]
+#: The id of a played input: a client's shot id or one of the server's own.
+InputId = Annotated[
+    str, StringConstraints(pattern=r"^(?:[A-Za-z0-9_-]{8,64}|(?:clock|bot):[0-9]{8,})$")
+]
 TableId = Annotated[str, StringConstraints(pattern=r"^[0-9a-f]{20}$")]
 Seat = Annotated[int, Field(ge=0, le=1)]
 
@@ -416,7 +428,7 @@ class OutcomeMessage(BaseModel):
     protocol: int = PROTOCOL
     table: TableId
     version: int
-    shot_id: ShotId
+    shot_id: InputId
     seat: Seat
     input: PlayerInput
     decision: Decision | None

@@ -32,6 +32,8 @@ from pydantic import BaseModel, Field, TypeAdapter, ValidationError
 
 from server.api_models import (
     HEARTBEAT_INTERVAL,
+    QUICK_POLL,
+    ChatMessage,
     IntentAccepted,
     IntentDuplicate,
     OutcomeMessage,
@@ -52,7 +54,11 @@ META = "ws+meta.nchan"
 M = TypeVar("M", bound=BaseModel)
 T = TypeVar("T")
 _ACK = TypeAdapter(IntentAccepted | IntentDuplicate)
-_FEED = TypeAdapter(Annotated[OutcomeMessage | TableMessage, Field(discriminator="kind")])
+_FEED = TypeAdapter(
+    Annotated[
+        OutcomeMessage | TableMessage | PresenceMessage | ChatMessage, Field(discriminator="kind")
+    ]
+)
 Change = TableView | OutcomeMessage
 
 #: Statuses a proxy answers, with its own page, when it could not get an answer from the
@@ -350,15 +356,29 @@ class GameClient:
         return running(beat)
 
     async def wait_paired(self) -> str:
-        """The table id of a quick match, once the server has paired this player."""
+        """The table id of a quick match, once the server has paired this player: from the
+        player channel's `paired` message, or from polling `GET /api/quick` every
+        `QUICK_POLL` seconds, which also keeps the request from lapsing."""
+        listen = asyncio.ensure_future(self._paired_message())
+        try:
+            while not listen.done():
+                status = QuickStatus.model_validate_json(await self.fetch("GET", "/api/quick"))
+                if status.status == "paired" and status.table is not None:
+                    return status.table
+                if status.status != "waiting":
+                    raise Refused(0, "lapsed", f"the quick-match request is {status.status}")
+                await asyncio.wait([listen], timeout=QUICK_POLL)
+            return listen.result()
+        finally:
+            listen.cancel()
+
+    async def _paired_message(self) -> str:
+        """The table of the player channel's first `paired` message."""
         assert self.player is not None
         async for data in self.messages(f"player-{self.player.id}"):
             message = {} if data is None else json.loads(data)
             if message.get("kind") == "paired":
                 return message["table"]
-            status = QuickStatus.model_validate_json(await self.fetch("GET", "/api/quick"))
-            if status.status == "paired" and status.table is not None:
-                return status.table
         raise Refused(0, "closed", "the player channel closed before pairing")
 
     # ----- the relay ------------------------------------------------------------------------
@@ -444,9 +464,11 @@ class GameClient:
         version; the message if it is the next version; the fetched state after a gap."""
         message = None if data is None else _feed_message(data)
         if data is not None and (message is None or message.version <= version):
-            return None  # not a change of the table, or already applied
-        if message is not None and message.version == version + 1:
+            return None  # not a message of the table, or nothing newer than what was applied
+        if isinstance(message, OutcomeMessage | TableMessage) and message.version == version + 1:
             return message if isinstance(message, OutcomeMessage) else message.view
+        # A gap notice, a version skipped, or a presence or chat message sent at a version
+        # this client has not seen (it missed a change, as after a server restart).
         fresh = await self.table(table_id)
         return fresh if fresh.version > version else None
 
@@ -479,10 +501,11 @@ def _close_reason(frame: aiohttp.WSMessage) -> str:
     return "connection lost"
 
 
-def _feed_message(data: bytes) -> OutcomeMessage | TableMessage | None:
-    """A table channel's outcome or table message, validated from its JSON in one pass; None
-    for the messages that change no version (presence, chat) and kinds this client does not
-    know."""
+def _feed_message(
+    data: bytes,
+) -> OutcomeMessage | TableMessage | PresenceMessage | ChatMessage | None:
+    """A table channel's message, validated from its JSON in one pass; None for kinds this
+    client does not know."""
     try:
         return _FEED.validate_json(data)
     except ValidationError as error:

@@ -6,8 +6,11 @@ their spectators, players online) is published; the last value wins. So a thousa
 joining within a second cost two snapshots, not a million messages, and a client that
 subscribes late gets the newest snapshot from the relay's buffer.
 
-Pairing is atomic in storage (server/storage, invariant 9): the caller who finds a partner
-creates the table for both; nobody is seated twice and no table gets a third player.
+Pairing is atomic in storage (server/storage, invariant 11): the caller who finds a partner
+creates the table for both; nobody is seated twice and no table gets a third player. A
+request lapses `QUICK_LAPSE` seconds after the client last asked or polled (`GET /api/quick`
+every `QUICK_POLL` s while waiting), so a client that died is never paired; and a quick match
+plays with a `QUICK_SHOT_CLOCK` shot clock, so that no seat can hold it forever.
 """
 
 from __future__ import annotations
@@ -20,6 +23,8 @@ from contextlib import AbstractAsyncContextManager
 
 from server import tables
 from server.api_models import (
+    QUICK_LAPSE,
+    QUICK_SHOT_CLOCK,
     LobbyMessage,
     PairedMessage,
     PlayerInfo,
@@ -97,9 +102,12 @@ class Lobby:
 
     # ----- quick match ------------------------------------------------------------------
     async def quick(self, player: PlayerInfo, create: TableCreate) -> QuickStatus:
-        """Pair `player` with the next player waiting for the same game, or queue it."""
-        table_id = new_table_id()
-        partner_id = await self._storage.pair(create.game, player.id, table_id)
+        """Pair `player` with the next player waiting for the same game, or queue it (until
+        `QUICK_LAPSE` after its last request or poll)."""
+        table_id, now = new_table_id(), time.time()
+        partner_id = await self._storage.pair(
+            create.game, player.id, table_id, now, now + QUICK_LAPSE
+        )
         if partner_id is None:
             return QuickStatus(status="waiting")
         pairing = await self._storage.pairing(player.id)
@@ -114,6 +122,7 @@ class Lobby:
         table from this request; an old one whose table is gone (expired) is over: idle."""
         pairing = await self._storage.pairing(player.id)
         if pairing is None:
+            await self._storage.touch_quick(player.id, time.time() + QUICK_LAPSE)
             return await self._storage.quick_status(player.id)
         if await self._storage.get_table(pairing.table) is None:
             if time.time() - pairing.at > PAIRING_KEPT:
@@ -127,7 +136,7 @@ class Lobby:
         first, second = [await self._storage.get_player(who) for who in pairing.seats]
         if first is None or second is None:
             raise ServiceError(ErrorCode.UNAVAILABLE, "the paired player vanished")
-        create = TableCreate(game=pairing.game)
+        create = TableCreate(game=pairing.game, shot_clock=QUICK_SHOT_CLOCK)
         record = tables.join(tables.new_table(pairing.table, create, first, new_seed()), second)
         try:
             await self._storage.create_table(record)

@@ -1,11 +1,14 @@
-"""The owner of each match: takes its inputs strictly one at a time, and referees each once.
+"""The table actor: every command on a table, taken strictly one at a time, in one place.
 
-In each server process a table has at most one `MatchOwner`, an actor: a queue of jobs and one
-task that runs them in order (the task ends when the queue is empty, so idle tables cost
-nothing). Every job starts from a fresh read of the stored table, so replicas sharing a Redis
-see each other's moves.
+In each server process a table has at most one `TableActor`: a queue of jobs and one task that
+runs them in order (the task ends when the queue is empty, so idle tables cost nothing). Every
+command is a typed value (server/commands.py): the players' `Play`, `Join`, `Leave`, `Resign`,
+`Claim`, `Rematch`, `Heartbeat` and `QuickMessage`, handed over by the HTTP handlers with
+`ask`, and the server's own `ClockExpiry` (server/clock.py) and `BotMove`, queued with `tell`.
+Every job starts from a fresh read of the stored table, so replicas sharing a Redis see each
+other's moves, and every change is stored with a compare-and-set on the table's version.
 
-The life of an intent (docs/protocol.md, Playing: intents):
+The life of an input (docs/protocol.md, Playing: intents):
 
 1. **validate** against the stored table: seat, turn, phase, version, then the referee's
    check (no physics). A refusal is answered at once and changes nothing.
@@ -16,12 +19,34 @@ The life of an intent (docs/protocol.md, Playing: intents):
    that requires this input still pending, and only if that succeeds **publish** the outcome on
    the table's channel.
 
-Exactly once across replicas: two replicas may both validate intents for version v, but the
+Exactly once across replicas: two replicas may both validate inputs for version v, but the
 compare-and-set lets exactly one accept; the other retries from a fresh read and answers
 `stale_version` or `duplicate`. An accepted input is already stored, so if its replica dies
-before resolving it, any replica that next touches the table (a heartbeat is enough) plays it
-after `LEASE` seconds; the engine is deterministic, so whoever plays it gets the same outcome,
-and the resolve compare-and-set lets only one of them store and publish it.
+before resolving it, any replica that next takes a command for the table (a heartbeat is
+enough) plays it after `LEASE` seconds; the engine is deterministic, so whoever plays it gets
+the same outcome, and the resolve compare-and-set lets only one of them store and publish it.
+
+What a table guarantees (tests/service/test_actor.py drives random command sequences against
+these on both storage backends; tests/service/test_stalls.py holds each over real sockets)
+-----------------------------------------------------------------------------------------------
+1. **The clock acts.** A table whose seat to act has a deadline gets an input for that seat
+   at the deadline (`ClockExpiry`, the input `clock:<version>`), whatever any client sent:
+   server inputs carry ids no client can send (server/commands.py), so a client's shot id
+   can never be taken for one of them.
+2. **Absence can be claimed.** A seat that left, or never sent a heartbeat at all, is absent
+   `PRESENCE_TIMEOUT` after it was last seen (or after the match started) and claimable by
+   its opponent `grace` seconds later (server/tables.py, `last_seen`).
+3. **Quick requests lapse.** A quick-match request lapses when its client stops asking or
+   polling (server/lobby.py, storage invariant 11), and a quick match has a shot clock.
+4. **One rematch.** A finished match has at most one rematch table, however many offers and
+   accepts arrive on however many replicas: its id is fixed by the match
+   (`tables.rematch_id`) and the link is stored with a compare-and-set before it is created.
+5. **No silent resume.** A subscriber that resumes after any restart or eviction gets the
+   messages it missed or a gap notice (server/relay/backend.py, invariant 4); every message
+   on a table's channel carries the table version, so a client can tell it is behind.
+6. **Bounded work.** A bot searches at most once per table version in a process, started
+   only by a change of the table or a seated player's heartbeat; a read (`GET`) starts no
+   work at all. Inputs are played at most once (storage invariants 3-4).
 """
 
 from __future__ import annotations
@@ -30,26 +55,29 @@ import asyncio
 import logging
 import secrets
 import time
-from collections import deque
+from collections import OrderedDict, deque
 from collections.abc import Awaitable, Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
-from server import ratings, refereeing, tables
+from server import commands, ratings, refereeing, tables
 from server.api_models import (
-    Intent,
+    ChatMessage,
     IntentAccepted,
     IntentDuplicate,
     Mode,
     PlayerInfo,
+    PresenceMessage,
     Status,
     TableMessage,
 )
 from server.channels import Publisher
+from server.commands import ClientCommand, Command
 from server.errors import ErrorCode, ServiceError
 from server.leaderboard import Breaks
+from server.lobby import new_seed
 from server.ratings import Rating
 from server.storage import AcceptResult, RateResult, Storage
-from server.tables import InputEntry, TableRecord
+from server.tables import GRACE, InputEntry, TableRecord
 from server.workers import WorkerPool
 
 log = logging.getLogger(__name__)
@@ -63,14 +91,16 @@ CAS_TRIES = 5
 #: Rating attempts of one match while other matches of its players keep being rated first
 #: (each conflict means another rating landed, so this is only reached under a storm).
 RATE_TRIES = 20
+#: Tables whose last bot search a process remembers (invariant 6: one search per version).
+SEARCHES_KEPT = 10_000
 
-Job = Callable[[], Awaitable[None]]
 Change = Callable[[TableRecord], TableRecord]
+AfterStore = Callable[[TableRecord], Awaitable[None]]
 
 
 @dataclass
 class MatchContext:
-    """What every match owner of a process shares."""
+    """What every table actor of a process shares."""
 
     storage: Storage
     pool: WorkerPool
@@ -78,6 +108,12 @@ class MatchContext:
     on_listing_change: Callable[[], None]
     replica: str
     breaks: Breaks
+    #: Seconds a disconnected player may stay away before the opponent may claim the win.
+    grace: float = GRACE
+    #: The presence each table last announced from this process (to announce changes once).
+    presence: dict[str, PresenceMessage] = field(default_factory=dict)
+    #: The table version each table's bot last searched at in this process (invariant 6).
+    searched: OrderedDict[str, int] = field(default_factory=OrderedDict)
 
 
 def _answer(request: asyncio.Future, result: object) -> None:
@@ -96,18 +132,29 @@ def duplicate(entry: InputEntry) -> IntentDuplicate:
     return IntentDuplicate(version=entry.version + 1, outcome=entry.outcome)
 
 
-class MatchOwner:
+@dataclass(frozen=True)
+class Move:
+    """An input to play: a client's intent, or one the server makes (`commands`)."""
+
+    player: PlayerInfo
+    version: int
+    shot_id: str
+    input: refereeing.PlayerInput
+    on_time: bool = True  # refused once the shot clock has run out (False: the clock's own)
+
+
+class TableActor:
     """The actor of one table in this process (see the module docstring)."""
 
     def __init__(self, table_id: str, context: MatchContext, forget: Callable[[], None]) -> None:
         self.table_id = table_id
         self._context = context
-        self._jobs: deque[Job] = deque()
+        self._jobs: deque[Callable[[], Awaitable[None]]] = deque()
         self._task: asyncio.Task[None] | None = None
         self._forget = forget
 
     # ----- the actor ----------------------------------------------------------------------
-    def _enqueue(self, job: Job) -> None:
+    def _enqueue(self, job: Callable[[], Awaitable[None]]) -> None:
         self._jobs.append(job)
         if self._task is None:
             self._task = asyncio.create_task(self._drain())
@@ -127,33 +174,63 @@ class MatchOwner:
         while self._task is not None:
             await asyncio.shield(self._task)
 
-    # ----- requests -----------------------------------------------------------------------
-    async def intent(self, player: PlayerInfo, intent: Intent) -> IntentAccepted | IntentDuplicate:
-        """Answer an intent once it is accepted or refused; it is played afterwards."""
-        ack: asyncio.Future[IntentAccepted | IntentDuplicate] = (
-            asyncio.get_running_loop().create_future()
-        )
-        self._enqueue(lambda: self._play_intent(player, intent, ack))
-        return await ack
+    # ----- commands -------------------------------------------------------------------------
+    async def ask(self, command: ClientCommand) -> object:
+        """Run a client's command in turn and return the actor's answer: an `IntentAccepted`
+        or `IntentDuplicate` (`Play`, answered once accepted; it is played afterwards), the
+        stored `TableRecord` (seat and match commands), a `PresenceMessage` (`Heartbeat`) or
+        the `ChatMessage` sent (`QuickMessage`). ServiceError refuses it, changing nothing."""
+        done: asyncio.Future[object] = asyncio.get_running_loop().create_future()
 
-    async def change(self, change: Change) -> TableRecord:
-        """Apply `change` to the stored table (compare-and-set) and announce the new view.
+        async def job() -> None:
+            try:
+                _answer(done, await self._run(command, done))
+            except ServiceError as error:
+                _answer(done, error)
 
-        `change` raises ServiceError to refuse; returning the record unchanged stores nothing.
-        """
-        done: asyncio.Future[TableRecord] = asyncio.get_running_loop().create_future()
-        self._enqueue(lambda: self._change(change, done))
+        self._enqueue(job)
         return await done
 
-    def expire(self) -> None:
-        """Rule on a shot clock that may have run out (server/clock.py)."""
-        self._enqueue(self._expire)
+    def tell(self, command: Command) -> None:
+        """Queue a command nobody waits for (the server's own: clock, bot)."""
 
-    def poke(self) -> None:
-        """Look at the table: finish an abandoned input, let a bot play (after a restart)."""
-        self._enqueue(self._look)
+        async def job() -> None:
+            try:
+                await self._run(command, None)
+            except ServiceError as error:
+                log.error("table %s: %s refused: %s", self.table_id, command, error)
 
-    # ----- jobs -----------------------------------------------------------------------------
+        self._enqueue(job)
+
+    async def _run(self, command: Command, done: asyncio.Future | None) -> object:
+        """Decide one command (the actor's only dispatch, on the command's type)."""
+        match command:
+            case commands.Play(player, intent):
+                move = Move(player, intent.version, intent.shot_id, intent.input)
+                return await self._play(move, done)
+            case commands.Join(player):
+                return await self._change(lambda r: tables.join(r, player))
+            case commands.Leave(player):
+                return await self._change(lambda r: tables.leave(r, player))
+            case commands.Resign(player):
+                return await self._change(lambda r: tables.resign(r, player))
+            case commands.Claim(player):
+                return await self._claim(player)
+            case commands.Rematch(player):
+                return await self._change(
+                    lambda r: tables.offer_rematch(r, player), self._ensure_rematch
+                )
+            case commands.Heartbeat(player):
+                return await self._heartbeat(player)
+            case commands.QuickMessage(player, message):
+                return await self._quick_message(player, message)
+            case commands.ClockExpiry():
+                return await self._expire()
+            case commands.BotMove():
+                return await self._bot_move()
+        raise AssertionError(f"unknown command {command!r}")
+
+    # ----- reading the table ------------------------------------------------------------------
     async def _settled(self) -> TableRecord:
         """The stored table once no input is pending (playing an abandoned one first)."""
         while True:
@@ -169,45 +246,39 @@ class MatchOwner:
             else:
                 await asyncio.sleep(PENDING_POLL)
 
-    async def _play_intent(
-        self, player: PlayerInfo, intent: Intent, ack: asyncio.Future, *, on_time: bool = True
-    ) -> None:
-        """Validate, accept (answering `ack`), play, store and publish one intent.
+    # ----- inputs ---------------------------------------------------------------------------
+    async def _play(self, move: Move, ack: asyncio.Future | None) -> IntentDuplicate | None:
+        """Validate, accept (answering `ack`), play, store and publish one input.
 
-        on_time: refuse the intent once the shot clock has run out (False for the clock's own).
-        """
-        try:
-            for _ in range(CAS_TRIES):
-                record = await self._settled()
-                answer = await self._admit(record, player, intent, on_time)
-                if answer is not None:
-                    break
-            else:
-                raise ServiceError(ErrorCode.UNAVAILABLE, "the table is busy: try again")
-        except ServiceError as error:
-            _answer(ack, error)
-            return
+        The answer goes to `ack` as soon as the input is accepted, before it is played; the
+        job then plays it, so the actor's next command sees the table after it."""
+        for _ in range(CAS_TRIES):
+            record = await self._settled()
+            answer = await self._admit(record, move)
+            if answer is not None:
+                break
+        else:
+            raise ServiceError(ErrorCode.UNAVAILABLE, "the table is busy: try again")
         if isinstance(answer, IntentDuplicate):
-            _answer(ack, answer)
-            return
-        _answer(ack, IntentAccepted(version=answer.version + 1))
+            return answer
+        if ack is not None:
+            _answer(ack, IntentAccepted(version=answer.version + 1))
         await self._resolve(answer)
-        self._enqueue(self._look)
+        self.tell(commands.BotMove())
+        return None
 
-    async def _admit(
-        self, record: TableRecord, player: PlayerInfo, intent: Intent, on_time: bool
-    ) -> TableRecord | IntentDuplicate | None:
-        """The record with the intent accepted, its first answer if it is a resend, or None
+    async def _admit(self, record: TableRecord, move: Move) -> TableRecord | IntentDuplicate | None:
+        """The record with the input accepted, its first answer if it is a resend, or None
         if another replica changed the table meanwhile. ServiceError for a refusal."""
         storage = self._context.storage
         try:
-            entry = validate(record, player, intent)
-            if on_time and record.deadline is not None and time.time() > record.deadline:
+            entry = validate(record, move)
+            if move.on_time and record.deadline is not None and time.time() > record.deadline:
                 raise ServiceError(ErrorCode.WRONG_PHASE, "the shot clock ran out")
         except ServiceError:
             # A resend (its version has passed) is answered with its first outcome; only a
-            # refused intent needs the look-up: `accept` itself refuses a shot id played before.
-            seen = await storage.find_input(record.id, intent.shot_id)
+            # refused input needs the look-up: `accept` itself refuses a shot id played before.
+            seen = await storage.find_input(record.id, move.shot_id)
             if seen is not None:
                 return duplicate(seen)
             raise
@@ -262,28 +333,90 @@ class MatchOwner:
         if len(people) == 2:
             await rate(self._context.storage, after, people)
 
-    async def _change(self, change: Change, done: asyncio.Future) -> None:
-        try:
-            for _ in range(CAS_TRIES):
-                record = await self._settled()
-                after = change(record)
-                if after is record:
-                    _answer(done, record)
-                    return
-                if await self._context.storage.update(after):
-                    break
-            else:
-                raise ServiceError(ErrorCode.UNAVAILABLE, "the table is busy: try again")
-        except ServiceError as error:
-            _answer(done, error)
-            return
+    # ----- seats and the match --------------------------------------------------------------
+    async def _change(self, change: Change, after_store: AfterStore | None = None) -> TableRecord:
+        """Apply `change` to the stored table (compare-and-set), run `after_store` on the
+        stored record, then announce the new view. `change` raises ServiceError to refuse;
+        returning the record unchanged stores and announces nothing."""
+        for _ in range(CAS_TRIES):
+            record = await self._settled()
+            after = change(record)
+            if after is record:
+                if after_store is not None:
+                    await after_store(record)
+                return record
+            if await self._context.storage.update(after):
+                break
+        else:
+            raise ServiceError(ErrorCode.UNAVAILABLE, "the table is busy: try again")
+        if after_store is not None:
+            await after_store(after)
         seen = await self._context.storage.heartbeats(after.id)
         message = TableMessage(version=after.version, view=tables.view(after, seen))
         await self._context.publisher.publish(after.channel, message)
         await self._status_changed(record, after)
-        _answer(done, after)
-        self._enqueue(self._look)
+        self.tell(commands.BotMove())
+        return after
 
+    async def _claim(self, player: PlayerInfo) -> TableRecord:
+        """The win for `player` if the opponent is absent past grace (read fresh, in turn)."""
+        seen = await self._context.storage.heartbeats(self.table_id)
+        grace = self._context.grace
+        return await self._change(lambda r: tables.claim(r, player, seen, time.time(), grace))
+
+    async def _ensure_rematch(self, record: TableRecord) -> None:
+        """Create the rematch table a finished match links to, unless it exists: its id is
+        fixed by the match (`tables.rematch_id`), so concurrent accepts on any replica make
+        one table, and a replica that died between linking and creating is made good by the
+        next offer or accept."""
+        if record.rematch_table is None:
+            return
+        storage = self._context.storage
+        if await storage.get_table(record.rematch_table) is not None:
+            return
+        try:
+            await storage.create_table(tables.rematch_table(record, new_seed()))
+        except ValueError:
+            return  # created meanwhile by another replica
+        self._context.on_listing_change()
+
+    # ----- presence and messages --------------------------------------------------------------
+    async def _heartbeat(self, player: PlayerInfo) -> PresenceMessage:
+        """Record that `player` is here; announce the table's presence when it changed."""
+        context = self._context
+        record = await context.storage.get_table(self.table_id)
+        if record is None:
+            raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
+        seat = tables.seated(record, player)
+        now = time.time()
+        await context.storage.heartbeat(record.id, seat, now)
+        seen = await context.storage.heartbeats(record.id)
+        message = PresenceMessage(
+            version=record.version,
+            presence=tables.presence(record, seen, now),
+            grace_until=tables.grace_until(record, seen, now, context.grace),
+        )
+        last = context.presence.get(record.id)
+        if last is None or last.presence != message.presence:
+            context.presence[record.id] = message
+            await context.publisher.publish(record.channel, message)
+        self.tell(commands.BotMove())  # after a restart: finish what was left, let a bot act
+        return message
+
+    async def _quick_message(self, player: PlayerInfo, text: object) -> ChatMessage:
+        record = await self._context.storage.get_table(self.table_id)
+        if record is None:
+            raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
+        message = ChatMessage(
+            version=record.version,
+            from_name=player.name,
+            seat=tables.seat_of(record, player.id),
+            message=text,
+        )
+        await self._context.publisher.publish(record.channel, message)
+        return message
+
+    # ----- the server's own inputs ------------------------------------------------------------
     async def _expire(self) -> None:
         """Play the timeout input for the seat to act if its deadline has passed."""
         record = await self._settled()
@@ -291,28 +424,36 @@ class MatchOwner:
         if record.deadline is None or record.deadline > time.time() or seat is None:
             return
         occupant = record.seats[seat]
+        assert occupant is not None
+        shot_id = commands.server_input_id(commands.CLOCK_PREFIX, record.version)
         action = refereeing.timeout_input(record.state)
-        shot_id = f"clock-{record.version:08d}"
-        intent = Intent(version=record.version, shot_id=shot_id, input=action)
-        await self._play_quietly(occupant, intent, on_time=False)
+        await self._play_quietly(Move(occupant, record.version, shot_id, action, on_time=False))
 
-    async def _play_quietly(self, player: PlayerInfo, intent: Intent, *, on_time: bool) -> None:
-        """Play an input the server makes (bot, clock); a refusal is a bug, so it is logged."""
-        ack: asyncio.Future = asyncio.get_running_loop().create_future()
-        await self._play_intent(player, intent, ack, on_time=on_time)
-        if ack.exception() is not None:
-            log.error("table %s: server input refused: %s", self.table_id, ack.exception())
-
-    async def _look(self) -> None:
-        """Let a bot seat play if it is to act (its shot goes through the same path)."""
+    async def _bot_move(self) -> None:
+        """Let a bot seat play if it is to act: one search per table version in a process,
+        started only by a change of the table or a seated player's heartbeat (never a read)."""
         record = await self._settled()
         seat = tables.acting_seat(record)
         occupant = record.seats[seat] if seat is not None else None
         if occupant is None or not tables.is_bot(occupant):
             return
+        searched = self._context.searched
+        if searched.get(record.id) == record.version:
+            return
+        searched[record.id] = record.version
+        searched.move_to_end(record.id)
+        while len(searched) > SEARCHES_KEPT:
+            searched.popitem(last=False)
         action = await self._context.pool.bot_input(record.state, tables.chooser_of(occupant))
-        intent = Intent(version=record.version, shot_id=f"bot-{record.version:08d}", input=action)
-        await self._play_quietly(occupant, intent, on_time=True)
+        shot_id = commands.server_input_id(commands.BOT_PREFIX, record.version)
+        await self._play_quietly(Move(occupant, record.version, shot_id, action))
+
+    async def _play_quietly(self, move: Move) -> None:
+        """Play an input the server makes; a refusal is a bug, so it is logged."""
+        try:
+            await self._play(move, None)
+        except ServiceError as error:
+            log.error("table %s: server input %s refused: %s", self.table_id, move.shot_id, error)
 
 
 async def rate(storage: Storage, record: TableRecord, people: list[PlayerInfo]) -> None:
@@ -330,33 +471,31 @@ async def rate(storage: Storage, record: TableRecord, people: list[PlayerInfo]) 
     log.error("table %s: not rated after %d conflicts", record.id, RATE_TRIES)
 
 
-def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEntry:
-    """The entry to store for `intent` from `player`; ServiceError if it may not be played."""
-    seat = tables.seat_of(record, player.id)
-    if seat is None:
-        raise ServiceError(ErrorCode.FORBIDDEN, "you do not sit at this table")
+def validate(record: TableRecord, move: Move) -> InputEntry:
+    """The entry to store for `move`; ServiceError if it may not be played."""
+    seat = tables.seated(record, move.player)
     acting = tables.acting_seat(record)
     if acting is None:
         raise ServiceError(ErrorCode.WRONG_PHASE, f"the table is {record.status.value}")
     if seat != acting:
         raise ServiceError(ErrorCode.NOT_YOUR_TURN, f"seat {acting} is to act")
-    if intent.version != record.version:
+    if move.version != record.version:
         raise ServiceError(
             ErrorCode.STALE_VERSION,
-            f"the table is at version {record.version}, not {intent.version}: resync",
+            f"the table is at version {record.version}, not {move.version}: resync",
         )
     options = refereeing.constraints(record.state).choices
-    if bool(options) != isinstance(intent.input, refereeing.Choice):
+    if bool(options) != isinstance(move.input, refereeing.Choice):
         wanted = "a choice of " + " / ".join(options) if options else "a shot"
         raise ServiceError(ErrorCode.WRONG_PHASE, f"send {wanted}")
-    action = refereeing.canonical(intent.input)
+    action = refereeing.canonical(move.input)
     try:
         refereeing.check(record.state, action)
     except refereeing.RuleError as error:
         rule = refereeing.rule_code(error)
         raise ServiceError(ErrorCode.ILLEGAL_INPUT, str(error), rule) from None
     return InputEntry(
-        shot_id=intent.shot_id,
+        shot_id=move.shot_id,
         seat=seat,
         input=action,
         version=record.version,
@@ -366,20 +505,20 @@ def validate(record: TableRecord, player: PlayerInfo, intent: Intent) -> InputEn
 
 
 class Matches:
-    """The match owners of this process, created on demand and dropped when idle."""
+    """The table actors of this process, created on demand and dropped when idle."""
 
     def __init__(self, context: MatchContext) -> None:
         self.context = context
-        self._owners: dict[str, MatchOwner] = {}
+        self._owners: dict[str, TableActor] = {}
 
-    def owner(self, table_id: str) -> MatchOwner:
+    def owner(self, table_id: str) -> TableActor:
         owner = self._owners.get(table_id)
         if owner is None:
-            owner = MatchOwner(table_id, self.context, lambda: self._drop(owner))
+            owner = TableActor(table_id, self.context, lambda: self._drop(owner))
             self._owners[table_id] = owner
         return owner
 
-    def _drop(self, owner: MatchOwner) -> None:
+    def _drop(self, owner: TableActor) -> None:
         if self._owners.get(owner.table_id) is owner:
             del self._owners[owner.table_id]
 

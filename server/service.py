@@ -12,7 +12,6 @@ from dataclasses import dataclass, field
 
 from aiohttp import web
 
-from server.api_models import PresenceMessage
 from server.channels import Publisher
 from server.clock import running_clock
 from server.errors import ErrorCode, ServiceError
@@ -51,10 +50,6 @@ class Service:
     lobby: Lobby
     matches: Matches
     replay_shots: ReplayShotsCache
-    #: Seconds a disconnected player may stay away before the opponent may claim the win.
-    grace: float = GRACE
-    #: The presence each table last announced from this process (to announce changes once).
-    presence: dict[str, PresenceMessage] = field(default_factory=dict)
     #: Token buckets for what a client can make the server store or send (see LIMITS).
     limits: dict[str, RateLimiter] = field(
         default_factory=lambda: {kind: RateLimiter(*limit) for kind, limit in LIMITS.items()}
@@ -91,7 +86,9 @@ async def running_service(
     publisher = Publisher(relay)
     lobby = Lobby(storage, publisher)
     breaks = Breaks(storage, pool, publisher)
-    context = MatchContext(storage, pool, publisher, lobby.changed, new_replica_id(), breaks)
+    context = MatchContext(
+        storage, pool, publisher, lobby.changed, new_replica_id(), breaks, grace=grace
+    )
     service = Service(
         storage=storage,
         pool=pool,
@@ -101,13 +98,12 @@ async def running_service(
         lobby=lobby,
         matches=Matches(context),
         replay_shots=ReplayShotsCache(storage, pool),
-        grace=grace,
     )
     try:
         async with (
             lobby.running(),
             running_clock(storage, service.matches),
-            running_expiry(storage, publisher, lambda table: service.presence.pop(table, None)),
+            running_expiry(storage, publisher, lambda table: context.presence.pop(table, None)),
         ):
             yield service
             await service.matches.idle()

@@ -8,6 +8,7 @@ goes to `breaker` by starting the rack with `turn = breaker` (alternating rack b
 
 from __future__ import annotations
 
+import hashlib
 import time
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -83,6 +84,9 @@ class TableRecord(BaseModel):
     rematch: tuple[bool, bool] = (False, False)
     rematch_table: str | None = None
     created: float
+    started: float | None = Field(
+        default=None, description="unix time both seats were taken (presence counts from it)"
+    )
     updated: float = Field(default=0.0, description="unix time of the last stored change")
 
     @property
@@ -126,6 +130,7 @@ def new_table(table_id: str, create: TableCreate, creator: PlayerInfo, seed: int
     """A table as created: practice and bot tables play at once, a match waits for a player."""
     second = bot_player(create.bot) if create.mode is Mode.BOT else None
     status = Status.OPEN if create.mode is Mode.MATCH else Status.PLAYING
+    now = time.time()
     record = TableRecord(
         id=table_id,
         game=create.game,
@@ -136,7 +141,8 @@ def new_table(table_id: str, create: TableCreate, creator: PlayerInfo, seed: int
         status=status,
         seed=seed,
         state=refereeing.new_rack(create.game, seed + 1, 0),
-        created=time.time(),
+        created=now,
+        started=now if status is Status.PLAYING else None,
     )
     return record.model_copy(update={"deadline": next_deadline(record)})
 
@@ -155,7 +161,77 @@ def join(record: TableRecord, player: PlayerInfo) -> TableRecord:
     if record.status is not Status.OPEN or record.mode is not Mode.MATCH:
         raise ServiceError(ErrorCode.TABLE_FULL, "this table takes no more players")
     seats = (record.seats[0], player)
-    return bump(record, seats=seats, status=Status.PLAYING)
+    return bump(record, seats=seats, status=Status.PLAYING, started=time.time())
+
+
+def seated(record: TableRecord, player: PlayerInfo) -> int:
+    """The seat of `player`; FORBIDDEN if it has none at this table."""
+    seat = seat_of(record, player.id)
+    if seat is None:
+        raise ServiceError(ErrorCode.FORBIDDEN, "you do not sit at this table")
+    return seat
+
+
+def leave(record: TableRecord, player: PlayerInfo) -> TableRecord:
+    """The open table cancelled by its player."""
+    seated(record, player)
+    if record.status is not Status.OPEN:
+        raise ServiceError(ErrorCode.WRONG_PHASE, "the table has started: resign instead")
+    return bump(record, status=Status.CANCELLED)
+
+
+def resign(record: TableRecord, player: PlayerInfo) -> TableRecord:
+    """The match given up by `player` (practice: over, with no winner)."""
+    seat = seated(record, player)
+    if record.status is not Status.PLAYING:
+        raise ServiceError(ErrorCode.WRONG_PHASE, f"the table is {record.status.value}")
+    winner = None if record.mode is Mode.PRACTICE else 1 - seat
+    return bump(record, status=Status.OVER, winner=winner)
+
+
+def claim(
+    record: TableRecord, player: PlayerInfo, seen: Seen, now: float, grace: float = GRACE
+) -> TableRecord:
+    """The match won by `player` because the opponent is absent past its grace period."""
+    seat = seated(record, player)
+    if record.status is not Status.PLAYING or record.mode is not Mode.MATCH:
+        raise ServiceError(ErrorCode.WRONG_PHASE, "there is no match to claim")
+    until = grace_until(record, seen, now, grace)[1 - seat]
+    if until is None or now < until:
+        raise ServiceError(ErrorCode.WRONG_PHASE, "your opponent is here or within grace")
+    return bump(record, status=Status.OVER, winner=seat)
+
+
+def rematch_id(table_id: str) -> str:
+    """The id of a finished match's rematch table: one per match, whoever creates it (every
+    replica computes the same id, and storage refuses a second table under it). Derived from
+    the match's own id, which is as hard to guess."""
+    return hashlib.sha256(f"rematch:{table_id}".encode()).hexdigest()[:20]
+
+
+def offer_rematch(record: TableRecord, player: PlayerInfo) -> TableRecord:
+    """The finished match with `player`'s rematch offer; once both offered, linked to its
+    rematch table (`rematch_id`). Unchanged (the same object) if there is nothing new."""
+    seat = seated(record, player)
+    if record.status is not Status.OVER or record.mode is not Mode.MATCH:
+        raise ServiceError(ErrorCode.WRONG_PHASE, "a rematch follows a finished match")
+    offers = list(record.rematch)
+    offers[seat] = True
+    both = all(offers)
+    if record.rematch[seat] and (not both or record.rematch_table is not None):
+        return record
+    link = rematch_id(record.id) if both else None
+    return bump(record, rematch=(offers[0], offers[1]), rematch_table=link)
+
+
+def rematch_table(record: TableRecord, seed: int) -> TableRecord:
+    """The rematch of a finished match: the same game and options, the seats swapped so that
+    the break alternates (seat 0 breaks a table's first rack)."""
+    assert record.rematch_table is not None
+    first, second = record.seats[1], record.seats[0]
+    assert first is not None and second is not None
+    create = TableCreate(game=record.game, **record.options.model_dump())
+    return join(new_table(record.rematch_table, create, first, seed), second)
 
 
 def bump(record: TableRecord, **changes: object) -> TableRecord:
@@ -213,14 +289,23 @@ def constraints(record: TableRecord) -> Constraints | None:
 Seen = tuple[float | None, float | None]
 
 
-def presence(record: TableRecord, seen: Seen, now: float) -> tuple[bool, bool]:
-    """Whether each seated human has sent a heartbeat lately (`seen`: the last one per seat).
+def last_seen(record: TableRecord, seen: Seen) -> Seen:
+    """When each seat was last known to be here: its last heartbeat, else when the match
+    started (a player who never sent one is absent from `PRESENCE_TIMEOUT` after the start,
+    so that a seat nobody ever took up can be claimed like one that left)."""
+    since = record.started if record.started is not None else record.created
+    return (seen[0] or since, seen[1] or since)
 
-    Bots, empty seats and players who never sent one count as present.
+
+def presence(record: TableRecord, seen: Seen, now: float) -> tuple[bool, bool]:
+    """Whether each seated human has been here lately (`seen`: the last heartbeat per seat).
+
+    Bots and empty seats count as present; so does everyone before the match has started.
     """
+    last = last_seen(record, seen) if record.status is Status.PLAYING else (now, now)
     here = [
-        occupant is None or is_bot(occupant) or last is None or now - last < PRESENCE_TIMEOUT
-        for occupant, last in zip(record.seats, seen, strict=True)
+        occupant is None or is_bot(occupant) or now - when < PRESENCE_TIMEOUT
+        for occupant, when in zip(record.seats, last, strict=True)
     ]
     return here[0], here[1]
 
@@ -232,8 +317,8 @@ def grace_until(
     seconds after it was first shown disconnected."""
     here = presence(record, seen, now)
     until = [
-        None if present or last is None else last + PRESENCE_TIMEOUT + grace
-        for present, last in zip(here, seen, strict=True)
+        None if present else last + PRESENCE_TIMEOUT + grace
+        for present, last in zip(here, last_seen(record, seen), strict=True)
     ]
     return until[0], until[1]
 

@@ -23,7 +23,11 @@ What a backend must guarantee
    `_open_feed` keeps its promise, see below).
 4. **Explicit gaps.** When a message newer than `last_id` has been evicted, the subscriber cannot
    get everything it missed: `read_since` sets `Backlog.gap`, and `subscribe` sends a `Gap`
-   event before the remaining messages. Never jump silently over lost messages.
+   event before the remaining messages. Never jump silently over lost messages. The same holds
+   when the backend no longer knows what came after `last_id` at all: a channel it does not
+   hold, or one whose history starts after `last_id` (the memory backend after a restart, a
+   channel deleted and published again, Redis that lost its data) gets a gap notice too, not
+   silence (`unknown_history`); `0:0` resumes from the very start and never does.
 5. **One feed per channel per process.** Subscribers of one channel in one process share one
    feed: `_open_feed(channel)` runs when the first local subscriber arrives and `_close_feed`
    when the last leaves; the feed calls `_fan_out(channel, event)` once per message, which hands
@@ -174,6 +178,16 @@ class Subscription:
         pending, self._pending = self._pending or [], None
         for event in pending:
             self._offer(event)
+
+
+def unknown_history(after: MessageKey | None, born: MessageKey | None) -> bool:
+    """Whether a resume after `after` asks for history this backend does not hold (invariant
+    4): the channel's first message here (`born`; None: it has none) came after `after`, so
+    whatever the subscriber was owed in between is lost. `0:0` (from the very start) and a
+    fresh subscription (None) ask for nothing earlier."""
+    if after is None or after == (0, 0):
+        return False
+    return born is None or born > after
 
 
 class Backend(ABC):

@@ -23,6 +23,7 @@ from server.relay.errors import RelayError
 from server.relay.http import error_response, relay_of
 from server.relay.ids import format_message_id, parse_message_id
 from server.relay.messages import DELETED, Gap, StoredMessage
+from server.relay.sendqueue import SendQueue
 from server.relay.subscribing import unsubscribe_all
 
 _WHOLE_SECOND = 10**12 - 1  # a tag after every tag: If-Modified-Since alone skips its second
@@ -57,6 +58,19 @@ def _message_response(message: StoredMessage, gap: Gap | None) -> web.Response:
     return web.Response(body=message.data, content_type=message.content_type, headers=headers)
 
 
+async def _first_message(queue: SendQueue) -> tuple[Gap | None, StoredMessage | None]:
+    """The first message the subscription delivers (None once it is closed), and the gap
+    notice before it, if any: a gap alone (a channel whose history is lost, and nothing new
+    yet) is told with the next message, not instead of it."""
+    gap = None
+    while batch := await queue.take():
+        gap = gap or next((event for event in batch if isinstance(event, Gap)), None)
+        message = next((event for event in batch if isinstance(event, StoredMessage)), None)
+        if message is not None:
+            return gap, message
+    return gap, None
+
+
 async def longpoll_subscriber(request: web.Request, channel: str) -> web.Response:
     relay = relay_of(request)
     try:
@@ -75,14 +89,13 @@ async def longpoll_subscriber(request: web.Request, channel: str) -> web.Respons
         queue.discard()
         return error_response(error)
     try:
-        batch = await asyncio.wait_for(queue.take(), relay.settings.longpoll_timeout)
+        waiting = _first_message(queue)
+        gap, message = await asyncio.wait_for(waiting, relay.settings.longpoll_timeout)
     except TimeoutError:
         return error_response(RelayError(408, "no message yet: ask again"))
     finally:
         queue.discard()
         await unsubscribe_all(relay, [subscription])
-    gap = next((event for event in batch if isinstance(event, Gap)), None)
-    message = next((event for event in batch if isinstance(event, StoredMessage)), None)
     if message is not None:
         return _message_response(message, gap)
     closed = queue.closed

@@ -19,7 +19,7 @@ from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from server.relay.backend import Backend, BackendConfig
+from server.relay.backend import Backend, BackendConfig, unknown_history
 from server.relay.ids import MessageKey, format_message_id, parse_message_id
 from server.relay.messages import DELETED, Backlog, ChannelInfo, Published, StoredMessage
 
@@ -30,6 +30,7 @@ _Entry = tuple[MessageKey, str, str, bytes, float, str | None]  # key, id, type,
 class _Channel:
     messages: deque[_Entry] = field(default_factory=deque)
     last_key: MessageKey | None = None
+    born_key: MessageKey | None = None  # the first id of this incarnation (invariant 4)
     evicted_key: MessageKey | None = None
     requested_at: float | None = None
     data_bytes: int = 0  # of the buffered messages' data
@@ -75,6 +76,7 @@ class MemoryBackend(Backend):
             event=event,
         )
         state.last_key = key
+        state.born_key = state.born_key or key
         state.messages.append((key, message.id, content_type, data, now, event))
         state.data_bytes += len(data)
         self._expire(state, now)
@@ -90,7 +92,7 @@ class MemoryBackend(Backend):
         state = self._channels.get(channel)
         after = parse_message_id(last_id) if last_id is not None else None
         if state is None:
-            return Backlog(messages=[], gap=False)
+            return Backlog(messages=[], gap=unknown_history(after, None))
         now = self._clock()
         state.requested_at = now
         self._expire(state, now)
@@ -101,7 +103,8 @@ class MemoryBackend(Backend):
             )
             for _, id_, type_, data, time_, event in newer[:limit]
         ]
-        gap = after is not None and state.evicted_key is not None and state.evicted_key > after
+        evicted = after is not None and state.evicted_key is not None and state.evicted_key > after
+        gap = evicted or unknown_history(after, state.born_key)
         return Backlog(messages=page, gap=gap, more=len(newer) > limit)
 
     def _info(self, state: _Channel, now: float, subscribers: int) -> ChannelInfo:

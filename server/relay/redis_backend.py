@@ -58,9 +58,9 @@ from redis.asyncio.retry import Retry
 from redis.backoff import NoBackoff
 from redis.maint_notifications import MaintNotificationsConfig
 
-from server.relay.backend import Backend, BackendConfig
+from server.relay.backend import Backend, BackendConfig, unknown_history
 from server.relay.errors import Unavailable
-from server.relay.ids import parse_message_id
+from server.relay.ids import MessageKey, parse_message_id
 from server.relay.messages import DELETED, Backlog, ChannelInfo, Published, StoredMessage
 from server.relay.redis_batch import ScriptBatcher
 from server.relay.redis_reader import (
@@ -240,6 +240,10 @@ count, bytes, evicted, first = trim(KEYS[1], count, bytes, first, tonumber(ARGV[
 -- The keys' idle expiry is renewed once per renew_s rather than by every publish: two EXPIREs,
 -- each with its entry in the append-only file, were a sixth of this script's time.
 local changed = {'last', id, 'bytes', bytes}
+if not meta[1] then  -- the channel's first message: its history here starts with it
+  table.insert(changed, 'born')
+  table.insert(changed, id)
+end
 local renew = not meta[5] or now - tonumber(meta[5]) >= tonumber(ARGV[13])
 if renew then
   table.insert(changed, 'kept')
@@ -258,11 +262,12 @@ return {id, fields[2], count, meta[4] or '',
 
 # KEYS: stream meta; ARGV: maxlen ttl maxbytes start(XRANGE bound) count
 # Returns the entries, the newest evicted id, whether more entries follow (the one entry read
-# to know it stays in Redis: a backlog page of large messages crosses the wire once).
+# to know it stays in Redis: a backlog page of large messages crosses the wire once), and the
+# channel's first id (false: no such channel; 0-0: published before first ids were kept).
 _READ_SINCE = (
     _LUA_HELPERS
     + """
-if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false, 0} end
+if redis.call('EXISTS', KEYS[2]) == 0 then return {{}, false, 0, false} end
 local now = clock()
 redis.call('HSET', KEYS[2], 'requested', string.format('%.6f', now))
 evict(KEYS[1], KEYS[2], tonumber(ARGV[1]), now - tonumber(ARGV[2]), tonumber(ARGV[3]))
@@ -270,7 +275,8 @@ local count = tonumber(ARGV[5])
 local entries = redis.call('XRANGE', KEYS[1], ARGV[4], '+', 'COUNT', count + 1)
 local more = #entries > count
 if more then entries[#entries] = nil end
-return {entries, redis.call('HGET', KEYS[2], 'evicted'), more and 1 or 0}
+local marks = redis.call('HMGET', KEYS[2], 'evicted', 'born')
+return {entries, marks[1], more and 1 or 0, marks[2] or '0-0'}
 """
 )
 
@@ -354,6 +360,10 @@ def _keys(channel: str) -> dict[str, str]:
 
 def _to_message_id(stream_id: bytes) -> str:
     return stream_id.decode().replace("-", ":")
+
+
+def _key(stream_id: bytes) -> MessageKey:
+    return parse_message_id(_to_message_id(stream_id))
 
 
 def _to_stream_id(message_id: str) -> str:
@@ -480,14 +490,14 @@ class RedisBackend(Backend):
         start = "-" if last_id is None else "(" + _to_stream_id(last_id)
         keys = _keys(channel)
         with _store_errors():
-            entries, evicted, more = await self._read_since(
+            entries, evicted, more, born = await self._read_since(
                 keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start, limit]
             )
         messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries]
-        gap = (
-            last_id is not None
-            and bool(evicted)
-            and parse_message_id(_to_message_id(evicted)) > parse_message_id(last_id)
+        after = None if last_id is None else parse_message_id(last_id)
+        first = _key(born) if born else None
+        gap = unknown_history(after, first) or (
+            after is not None and bool(evicted) and _key(evicted) > after
         )
         return Backlog(messages=messages, gap=gap, more=bool(more))
 

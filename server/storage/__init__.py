@@ -44,7 +44,10 @@ What a backend must guarantee
 11. **Atomic pairing.** `pair` either takes one other player waiting for the same game off the
    queue and records both as paired at the given table (returning the partner), or queues the
    caller; a player is in at most one queue once, never paired twice by one call sequence,
-   and never paired with itself. `quick_status` and `cancel_quick` read and leave the queue.
+   and never paired with itself. A waiting request lapses at the time it was given (`pair`,
+   extended by `touch_quick`): a lapsed one is never paired and reads as idle, so a client
+   that stopped asking is never matched with a live player. `quick_status` and
+   `cancel_quick` read and leave the queue.
    A pairing records its game and both players in seat order (`pairing`), so that its table
    can be created by whoever finds it missing (the replica that paired them may have died
    before creating it).
@@ -192,9 +195,16 @@ class Storage(ABC):
 
     # ----- quick match ------------------------------------------------------------------
     @abstractmethod
-    async def pair(self, game: str, player_id: str, table_id: str) -> str | None:
-        """Pair with a waiting player (returning its id, both now paired at `table_id`) or
-        wait (None). Asking again while waiting for the same game changes nothing."""
+    async def pair(
+        self, game: str, player_id: str, table_id: str, now: float, until: float
+    ) -> str | None:
+        """Pair with a player waiting for the same game whose request has not lapsed by `now`
+        (returning its id, both now paired at `table_id`), or wait until `until` (None).
+        Asking again while waiting for the same game only extends the wait."""
+
+    @abstractmethod
+    async def touch_quick(self, player_id: str, until: float) -> None:
+        """Keep the player's waiting request until `until` (nothing if it is not waiting)."""
 
     async def quick_status(self, player_id: str) -> QuickStatus:
         return parse_quick(await self._quick_value(player_id))

@@ -19,8 +19,6 @@ replica sends it. Keys, all prefixed `game:`:
 
 from __future__ import annotations
 
-import time
-
 import redis.asyncio as aioredis
 from redis.exceptions import RedisError
 
@@ -93,10 +91,14 @@ return 1
 """
 
 # KEYS: queue, caller's status. ARGV: player, waiting status, paired status (without its
-# players), status key prefix.
+# players), status key prefix, when the wait lapses (unix ms). A waiting status expires when
+# its request lapses (invariant 11), so a lapsed partner is skipped like a cancelled one.
 _PAIR = """
 local status = redis.call('GET', KEYS[2])
-if status == ARGV[2] then return false end
+if status == ARGV[2] then
+  redis.call('PEXPIREAT', KEYS[2], ARGV[5])
+  return false
+end
 if status and string.sub(status, 1, 8) == 'waiting:' then
   redis.call('LREM', 'game:q:' .. string.sub(status, 9), 0, ARGV[1])
 end
@@ -111,8 +113,16 @@ while true do
   end
 end
 redis.call('RPUSH', KEYS[1], ARGV[1])
-redis.call('SET', KEYS[2], ARGV[2])
+redis.call('SET', KEYS[2], ARGV[2], 'PXAT', ARGV[5])
 return false
+"""
+
+# KEYS: caller's status. ARGV: when the wait lapses (unix ms).
+_TOUCH_QUICK = """
+local status = redis.call('GET', KEYS[1])
+if status and string.sub(status, 1, 8) == 'waiting:' then
+  redis.call('PEXPIREAT', KEYS[1], ARGV[1])
+end
 """
 
 # KEYS: rated set, then one ratings hash per player. ARGV: table id, game, one rating document
@@ -174,6 +184,7 @@ class RedisStorage(Storage):
         self._claim = self._redis.register_script(_CLAIM)
         self._pair = self._redis.register_script(_PAIR)
         self._cancel = self._redis.register_script(_CANCEL)
+        self._touch_quick = self._redis.register_script(_TOUCH_QUICK)
         self._rate = self._redis.register_script(_RATE)
         self._expire = self._redis.register_script(_EXPIRE)
         self._add_break = self._redis.register_script(_ADD_BREAK)
@@ -350,10 +361,16 @@ class RedisStorage(Storage):
         return BreakEntry.model_validate_json(doc) if doc else None
 
     # ----- quick match ------------------------------------------------------------------
-    async def pair(self, game: str, player_id: str, table_id: str) -> str | None:
+    async def pair(
+        self, game: str, player_id: str, table_id: str, now: float, until: float
+    ) -> str | None:
         keys = [f"{P}q:{game}", f"{P}qs:{player_id}"]
-        args = [player_id, waiting(game), paired(table_id, game, time.time()), f"{P}qs:"]
+        status = paired(table_id, game, now)
+        args = [player_id, waiting(game), status, f"{P}qs:", int(until * 1000)]
         return await self._pair(keys=keys, args=args)
+
+    async def touch_quick(self, player_id: str, until: float) -> None:
+        await self._touch_quick(keys=[f"{P}qs:{player_id}"], args=[int(until * 1000)])
 
     async def _quick_value(self, player_id: str) -> str | None:
         return await self._redis.get(f"{P}qs:{player_id}")

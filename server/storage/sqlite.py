@@ -76,7 +76,8 @@ CREATE TABLE IF NOT EXISTS breaks (
     at REAL NOT NULL, doc TEXT NOT NULL);
 CREATE INDEX IF NOT EXISTS breaks_rank ON breaks (game, score DESC, at);
 CREATE TABLE IF NOT EXISTS quick (
-    player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL);
+    player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL,
+    alive REAL NOT NULL DEFAULT 0);
 """
 
 
@@ -95,8 +96,9 @@ def token_key(path: str | Path) -> str:
 
 async def _add_columns(db: aiosqlite.Connection) -> None:
     """Give a database made before table expiry its `expires` column (invariant 12): its
-    tables expire `KEEP_IDLE` after creation, or as their next change says. And one made
-    before the `outcome` column its last outcomes moved out of the documents into it."""
+        tables expire `KEEP_IDLE` after creation, or as their next change says. And one made
+        before the `outcome` column its last outcomes moved out of the documents into it; and the
+    quick-match queue its `alive` column."""
     async with db.execute("PRAGMA table_info(tables)") as cursor:
         columns = {row[1] for row in await cursor.fetchall()}
     if "expires" not in columns:
@@ -110,6 +112,10 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
             outcome = record.last_outcome and record.last_outcome.model_dump_json()
             moved = (record.model_dump_json(exclude=_DOC), outcome, table_id)
             await db.execute("UPDATE tables SET doc = ?, outcome = ? WHERE id = ?", moved)
+    async with db.execute("PRAGMA table_info(quick)") as cursor:
+        if "alive" not in {row[1] for row in await cursor.fetchall()}:
+            # Requests queued before they could lapse lapse at once (invariant 11).
+            await db.execute("ALTER TABLE quick ADD COLUMN alive REAL NOT NULL DEFAULT 0")
 
 
 class SqliteStorage(Storage):
@@ -428,11 +434,18 @@ class SqliteStorage(Storage):
         return BreakEntry.model_validate_json(row[0]) if row else None
 
     # ----- quick match ------------------------------------------------------------------
-    async def pair(self, game: str, player_id: str, table_id: str) -> str | None:
+    async def pair(
+        self, game: str, player_id: str, table_id: str, now: float, until: float
+    ) -> str | None:
         async with self._transaction() as db:
+            await db.execute(
+                "DELETE FROM quick WHERE status LIKE 'waiting:%' AND alive < ? AND player != ?",
+                (now, player_id),
+            )
             async with db.execute("SELECT status FROM quick WHERE player = ?", (player_id,)) as c:
                 row = await c.fetchone()
             if row is not None and row[0] == waiting(game):
+                await db.execute("UPDATE quick SET alive = ? WHERE player = ?", (until, player_id))
                 return None
             async with db.execute(
                 "SELECT player FROM quick WHERE status = ? AND player != ? ORDER BY queued LIMIT 1",
@@ -441,21 +454,31 @@ class SqliteStorage(Storage):
                 partner = await cursor.fetchone()
             if partner is None:
                 await db.execute(
-                    "INSERT OR REPLACE INTO quick VALUES (?, ?, ?)",
-                    (player_id, waiting(game), next(self._queued)),
+                    "INSERT OR REPLACE INTO quick VALUES (?, ?, ?, ?)",
+                    (player_id, waiting(game), next(self._queued), until),
                 )
                 return None
-            status = f"{paired(table_id, game, time.time())}{partner[0]}:{player_id}"
+            status = f"{paired(table_id, game, now)}{partner[0]}:{player_id}"
             for who in (player_id, partner[0]):
                 await db.execute(
-                    "INSERT OR REPLACE INTO quick VALUES (?, ?, ?)",
+                    "INSERT OR REPLACE INTO quick VALUES (?, ?, ?, 0)",
                     (who, status, next(self._queued)),
                 )
             return partner[0]
 
+    async def touch_quick(self, player_id: str, until: float) -> None:
+        async with self._transaction() as db:
+            await db.execute(
+                "UPDATE quick SET alive = ? WHERE player = ? AND status LIKE 'waiting:%'"
+                " AND alive >= ?",
+                (until, player_id, time.time()),
+            )
+
     async def _quick_value(self, player_id: str) -> str | None:
-        row = await self._one("SELECT status FROM quick WHERE player = ?", player_id)
-        return row[0] if row else None
+        row = await self._one("SELECT status, alive FROM quick WHERE player = ?", player_id)
+        if row is None or (row[0].startswith("waiting:") and row[1] < time.time()):
+            return None  # a lapsed request reads as none (invariant 11)
+        return row[0]
 
     async def cancel_quick(self, player_id: str) -> bool:
         async with self._transaction() as db:

@@ -72,7 +72,7 @@ def test_a_private_table_is_played_through_its_link(browser, server, console):
             take_turn(pages, view)
         view = api.table(table)
         assert view["last_outcome"]["seat"] == 1  # Bob, who came by the link, played
-        assert not view["last_outcome"]["shot_id"].startswith(("clock-", "bot-"))
+        assert not view["last_outcome"]["shot_id"].startswith(("clock:", "bot:"))
         wait_version(ada, view["version"])
         assert ada.locator("#invite").count() == 0  # the invitation is gone once it is taken
     finally:
@@ -102,7 +102,7 @@ def test_the_shot_clock_counts_down_and_the_server_rules_its_end(browser, server
             )
         view = apis[0].table(table)
         outcome = view["last_outcome"]
-        assert outcome["shot_id"] == f"clock-{start['version']:08d}" and outcome["seat"] == 0
+        assert outcome["shot_id"] == f"clock:{start['version']:08d}" and outcome["seat"] == 0
         assert outcome["decision"]["fouls"] and view["next"]["seat"] == 1
         for page in pages:
             wait_version(page, view["version"])

@@ -168,3 +168,53 @@ async def test_a_long_backlog_goes_out_page_by_page_exactly_once_while_publishin
 
 async def _publish_range(relay: RelayHarness, start: int, stop: int) -> list[str]:
     return [await relay.publish_ok("game1", n) for n in range(start, stop)]
+
+
+async def test_a_resume_into_history_the_relay_lost_gets_a_gap_notice(
+    relay: RelayHarness,
+) -> None:
+    """A channel deleted and published again, or one the relay no longer holds at all (the
+    memory backend after a restart): a resume from an id of its old life is told of the gap
+    instead of hearing nothing, and `0:0` (from the very start) is not."""
+    old = await relay.publish_ok("game1", "old")
+    gone = await relay.client.delete("/pub/game1", headers=relay.auth("game1"))
+    assert gone.status == 200
+    await asyncio.sleep(1.05)  # a channel published again starts its ids afresh: in a new second
+    fresh = await relay.publish_ok("game1", "fresh")
+    ws = await relay.ws(f"/sub/game1?last_event_id={old}")
+    _, content_type, body = await receive_meta(ws)
+    assert content_type == GAP_TYPE and json.loads(body)["last_id"] == old
+    assert await _collect(ws, 1) == [(fresh, "fresh")]
+    await ws.close()
+    ws = await relay.ws(f"/sub/game1?last_event_id={fresh}")
+    await relay.publish_ok("game1", "next")
+    assert [value for _, value in await _collect(ws, 1)] == ["next"]  # no gap: nothing lost
+    await ws.close()
+    ws = await relay.ws("/sub/game2?last_event_id=0:0")
+    await wait_subscribers(relay, "game2", 1)
+    await relay.publish_ok("game2", "first")
+    assert [value for _, value in await _collect(ws, 1)] == ["first"]
+    await ws.close()
+    ws = await relay.ws(f"/sub/never_published?last_event_id={old}")
+    _, content_type, _ = await receive_meta(ws)
+    assert content_type == GAP_TYPE
+    await ws.close()
+
+
+async def test_a_memory_relay_restarted_tells_resuming_subscribers_of_the_gap(
+    start_relay: StartRelay, redis_url_or_none: str | None
+) -> None:
+    """The embedded relay keeps its buffers in memory: after a restart a subscriber resuming
+    with its last id gets a gap notice (then everything new), never silence. (On Redis the
+    buffers outlive the process, and the resume gets the messages themselves.)"""
+    before = await start_relay()
+    last = await before.publish_ok("table-1", "v13")
+    await before.publish_ok("table-1", "v14")  # published, never received by the subscriber
+    after = await start_relay()
+    ws = await after.ws(f"/sub/table-1?last_event_id={last}")
+    _, content_type, data = await receive_meta(ws)
+    if redis_url_or_none is None:
+        assert content_type == GAP_TYPE
+    else:
+        assert json.loads(data) == "v14"
+    await ws.close()

@@ -25,7 +25,7 @@ async def test_a_clock_that_runs_out_is_a_foul_played_by_the_server(server: Test
     assert await storage.update(expired)
     watcher = await watch(server, view["channel"])
     outcome = await watcher.next_kind("outcome")
-    assert outcome["shot_id"] == f"clock-{expired.version:08d}" and outcome["seat"] == 0
+    assert outcome["shot_id"] == f"clock:{expired.version:08d}" and outcome["seat"] == 0
     assert outcome["decision"]["fouls"] and outcome["next"]["seat"] == 1
     assert outcome["next"]["ball_in_hand"] == "anywhere"
     assert outcome["next"]["deadline"] > time.time() + 25  # Bob's clock started
@@ -65,4 +65,4 @@ async def test_a_clock_that_ran_out_while_the_server_was_down_is_ruled_on_return
     second = await start_server()
     watcher = await watch(second, view["channel"])
     outcome = await watcher.next_kind("outcome")
-    assert outcome["shot_id"] == f"clock-{down.version:08d}" and outcome["next"]["seat"] == 1
+    assert outcome["shot_id"] == f"clock:{down.version:08d}" and outcome["next"]["seat"] == 1

@@ -39,7 +39,8 @@ async def test_an_input_abandoned_by_a_dead_replica_is_played_after_the_lease(
     ada, _, view = await seated_match(server)
     await abandon_input(service_of(server).storage, view, "orphan-0001")
     watcher = await watch(server, view["channel"])
-    await server.get(f"/api/tables/{view['id']}")  # any request looks at the table
+    # A seated player's next command finishes it (a read would not: reads start no work).
+    await ada.call("POST", f"/api/tables/{view['id']}/heartbeat", expect=200)
     outcome = await watcher.next_kind("outcome")
     assert (outcome["shot_id"], outcome["version"]) == ("orphan-0001", view["version"] + 1)
     status, again = await ada.shoot(view["id"], view["version"], picked(view), "orphan-0001")

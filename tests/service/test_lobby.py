@@ -58,7 +58,8 @@ async def test_a_pairing_left_without_its_table_gets_one_from_the_next_status_re
     inbox = await watch(server, f"player-{ada.info['id']}")
     await ada.call("POST", "/api/quick", {"game": "nineball"}, 200)
     table_id = new_table_id()
-    assert await storage.pair("nineball", bob.info["id"], table_id) == ada.info["id"]
+    now = time.time()
+    assert await storage.pair("nineball", bob.info["id"], table_id, now, now + 60) == ada.info["id"]
     assert await storage.get_table(table_id) is None
 
     statuses = await asyncio.gather(
@@ -81,7 +82,8 @@ async def test_a_pairing_whose_table_is_gone_is_over(
     cy, dee = [await register(server, name) for name in ("Cy", "Dee")]
     await cy.call("POST", "/api/quick", {"game": "snooker"}, 200)
     table_id = new_table_id()
-    assert await storage.pair("snooker", dee.info["id"], table_id) == cy.info["id"]
+    now = time.time()
+    assert await storage.pair("snooker", dee.info["id"], table_id, now, now + 60) == cy.info["id"]
     for player in (cy, dee):
         assert (await player.call("GET", "/api/quick", expect=200))[1]["status"] == "idle"
     assert await storage.get_table(table_id) is None
@@ -128,7 +130,7 @@ async def test_the_bot_answers_through_the_same_match_path(server: TestClient, b
     mine = await watcher.next_kind("outcome")
     assert mine["seat"] == 0 and mine["next"]["seat"] == 1  # a foul: the bot's turn
     theirs = await watcher.next_kind("outcome")
-    assert theirs["seat"] == 1 and theirs["shot_id"] == f"bot-{mine['version']:08d}"
+    assert theirs["seat"] == 1 and theirs["shot_id"] == f"bot:{mine['version']:08d}"
     assert theirs["version"] == mine["version"] + 1 and theirs["trajectory"] is not None
 
 

@@ -12,6 +12,7 @@ from aiohttp.test_utils import TestClient
 from server import refereeing
 from server.api_models import Intent, PlayerInfo
 from server.client import from_json
+from server.commands import Play
 from server.match import LEASE
 from server.storage import Storage
 from server.tables import InputEntry
@@ -194,7 +195,7 @@ async def test_an_intent_whose_client_left_before_its_answer_is_still_played(
     intent = from_json(Intent, {"version": view["version"], "shot_id": "gone-before-its-answer",
                                 "input": picked(view)})  # fmt: skip
     owner = service_of(server).matches.owner(view["id"])
-    request = asyncio.ensure_future(owner.intent(from_json(PlayerInfo, ada.info), intent))
+    request = asyncio.ensure_future(owner.ask(Play(from_json(PlayerInfo, ada.info), intent)))
     await asyncio.sleep(0)  # the job is queued; its request waits for the answer
     request.cancel()
     outcome = await watcher.next_kind("outcome")

@@ -115,13 +115,22 @@ async def test_listed_tables_are_the_public_unfinished_ones(storage: Storage) ->
     assert await storage.listed_tables(10) == []
 
 
+async def wait_quick(storage: Storage, game: str, player: str, table: str) -> str | None:
+    """Ask for a quick match, the request kept for a minute."""
+    now = time.time()
+    return await storage.pair(game, player, table, now, now + 60)
+
+
 async def test_pairing_is_atomic_under_one_hundred_simultaneous_requests(
     open_storage: OpenStorage,
 ) -> None:
     stores = [await open_storage() for _ in range(4)]
     players = [f"p_{i:03d}" for i in range(100)]
     partners = await asyncio.gather(
-        *(stores[i % 4].pair("nineball", player, f"{i:020x}") for i, player in enumerate(players))
+        *(
+            wait_quick(stores[i % 4], "nineball", player, f"{i:020x}")
+            for i, player in enumerate(players)
+        )
     )
     pairs = [(p, q) for p, q in zip(players, partners, strict=True) if q is not None]
     seated = [who for pair in pairs for who in pair]
@@ -138,16 +147,32 @@ async def test_pairing_is_atomic_under_one_hundred_simultaneous_requests(
 
 
 async def test_waiting_twice_queues_once_and_cancel_leaves_the_queue(storage: Storage) -> None:
-    assert await storage.pair("snooker", "p_a", "a" * 20) is None
-    assert await storage.pair("snooker", "p_a", "b" * 20) is None
+    assert await wait_quick(storage, "snooker", "p_a", "a" * 20) is None
+    assert await wait_quick(storage, "snooker", "p_a", "b" * 20) is None
     assert (await storage.quick_status("p_a")).status == "waiting"
     assert await storage.cancel_quick("p_a")
     assert not await storage.cancel_quick("p_a")
-    assert await storage.pair("snooker", "p_b", "c" * 20) is None  # p_a is gone
-    assert await storage.pair("nineball", "p_c", "d" * 20) is None  # another game
-    assert await storage.pair("snooker", "p_c", "e" * 20) == "p_b"  # moved queues
+    assert await wait_quick(storage, "snooker", "p_b", "c" * 20) is None  # p_a is gone
+    assert await wait_quick(storage, "nineball", "p_c", "d" * 20) is None  # another game
+    assert await wait_quick(storage, "snooker", "p_c", "e" * 20) == "p_b"  # moved queues
     assert (await storage.quick_status("p_b")).table == "e" * 20
     assert (await storage.quick_status("p_z")).status == "idle"
+
+
+async def test_a_request_lapses_unless_it_is_kept(storage: Storage) -> None:
+    now = time.time()
+    assert await storage.pair("nineball", "p_gone", "a" * 20, now, now + 0.3) is None
+    assert await storage.pair("eightball", "p_kept", "b" * 20, now, now + 0.3) is None
+    await storage.touch_quick("p_kept", now + 60)
+    await storage.touch_quick("p_idle", now + 60)  # not waiting: nothing to keep
+    await asyncio.sleep(0.5)
+    assert (await storage.quick_status("p_gone")).status == "idle"  # lapsed
+    assert (await storage.quick_status("p_idle")).status == "idle"
+    await storage.touch_quick("p_gone", time.time() + 60)  # too late: it stays lapsed
+    assert (await storage.quick_status("p_gone")).status == "idle"
+    assert await wait_quick(storage, "nineball", "p_new", "c" * 20) is None  # not p_gone
+    assert (await storage.quick_status("p_kept")).status == "waiting"
+    assert await wait_quick(storage, "eightball", "p_other", "d" * 20) == "p_kept"
 
 
 async def test_heartbeats_are_kept_per_seat_beside_the_record(storage: Storage) -> None:

@@ -7,6 +7,8 @@ import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
 
 const $ = (id) => document.getElementById(id);
+/** How often a waiting client polls its quick-match request (the server's QUICK_POLL). */
+const QUICK_POLL_MS = 5000;
 
 function error(e) {
   $("home-error").textContent = e ? e.message : "";
@@ -35,6 +37,12 @@ async function quickMatch(game, button) {
   waiting = new Subscription(`player-${me.id}`, {
     onMessage: (m) => m.kind === "paired" && go(m.table),
   });
+  // The server keeps a request only while it is polled (a closed page is never paired); the
+  // poll also finds a pairing whose message was missed.
+  setInterval(async () => {
+    const now = await get("/api/quick").catch(() => null);
+    if (now?.status === "paired") go(now.table);
+  }, QUICK_POLL_MS);
   button.onclick = async () => {
     await call("DELETE", "/api/quick").catch(() => {});
     location.reload();

@@ -58,9 +58,9 @@ export function decisionWords(view, d) {
 }
 
 /** An outcome's words (its decision's), after why the server played it if it did: the shot id
- *  `clock-<version>` is the stroke played for a seat whose shot clock ran out. */
+ *  `clock:<version>` is the stroke played for a seat whose shot clock ran out. */
 export function outcomeWords(view, outcome) {
-  const clock = outcome.shot_id?.startsWith("clock-") ? `${seatName(view, outcome.seat)}'s shot clock ran out. ` : "";
+  const clock = outcome.shot_id?.startsWith("clock:") ? `${seatName(view, outcome.seat)}'s shot clock ran out. ` : "";
   return clock + decisionWords(view, outcome.decision);
 }
 
