@@ -4,9 +4,10 @@
 
 Starts `billiards serve` (SQLite, `--workers` simulation processes) on a free loopback port,
 then plays N nine-ball matches at once with the command-line client's code
-(server/client.py: two players and one spectator per table, the rules' shot pickers choosing),
-racking a new table whenever one ends. Two runs: flat out (every player shoots as soon as it is
-its turn), then paced at half the refereed rate the first run reached. Each prints:
+(server/client/api_client.py: two players and one spectator per table, the rules' shot
+pickers choosing), racking a new table whenever one ends. Two runs: flat out (every player
+shoots as soon as it is its turn), then paced at half the refereed rate the first run reached.
+Each prints:
 
 - refereed shots per second, in all and per server process (the server and its workers);
 - accepted -> outcome delivered (ms, p50 / p99): from the `202 accepted` answer to the outcome
@@ -35,9 +36,9 @@ from dataclasses import dataclass, field
 
 import aiohttp
 
-from server import refereeing
-from server.api_models import OutcomeMessage, Status, TableView
-from server.client import GameClient, Refused
+from server.client.api_client import GameClient, Refused
+from server.game import refereeing
+from server.protocol.models import OutcomeMessage, Status, TableView
 from server.relay.auth import TokenAuthority
 
 SECRET = "match-load-bench-secret-0123456789"

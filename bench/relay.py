@@ -31,7 +31,7 @@ what is left (`gc.freeze`) and turns its collector off until the phase's measure
 done: a full collection over its thousands of client sockets stopped it for tens of
 milliseconds, and even its young collections for 7-13 ms about every 0.8 s, which it counted
 as the server's latency (the same for every target). The relay servers' collectors follow
-`server.collector` (their started heap frozen) as `billiards serve`'s do, pauses included; the
+`server.http.collector` (their started heap frozen) as `billiards serve`'s do, pauses included; the
 bare forwarder's runs untouched.
 
 On Redis targets, the server's Redis connections are counted (CLIENT LIST) while 1 channel and
@@ -159,7 +159,7 @@ def bare_app() -> web.Application:
 
 def relay_app(redis_url: str | None) -> web.Application:
     """The real relay, every feature on; only the per-publisher rate limits are lifted."""
-    from server.app import AppSettings, create_app
+    from server.http.app import AppSettings, create_app
     from server.relay.settings import RelaySettings
 
     relay = RelaySettings(
@@ -174,8 +174,8 @@ def relay_app(redis_url: str | None) -> web.Application:
 
 def serve(kind: str, port: int, redis_url: str | None, use_uvloop: bool) -> None:
     """Entry point of a server process (`--serve`)."""
-    from server import collector
-    from server.serve import new_event_loop
+    from server.http import collector
+    from server.http.serve import new_event_loop
 
     app = bare_app() if kind == "bare" else relay_app(redis_url)
     if kind == "relay":

@@ -13,8 +13,8 @@ import sys
 
 REGISTRARS = (
     "physics.cli",
-    "server.serve",
-    "server.play_cli",
+    "server.http.serve",
+    "server.client.play",
     "rules.cli",
     "physics.diagrams_cli",
 )

@@ -52,7 +52,7 @@ What a backend must guarantee
    can be created by whoever finds it missing (the replica that paired them may have died
    before creating it).
 12. **Expiry.** `expire_tables(now, limit)` deletes from the live store at most `limit` tables
-   whose last stored record's `expires` (server/tables.py: a finished table `KEEP_FINISHED`
+   whose last stored record's `expires` (server/game/tables.py: a finished table `KEEP_FINISHED`
    after its last change, an unfinished one `KEEP_IDLE`) is at or before `now`, earliest
    first, each with its inputs, heartbeats, listing and deadline, in one atomic step per
    table, and returns their ids; a table changed since keeps its new expiry. Replays, breaks
@@ -66,9 +66,9 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from enum import StrEnum
 
-from server.api_models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
-from server.ratings import Rating
-from server.tables import InputEntry, TableRecord
+from server.game.ratings import Rating
+from server.game.tables import InputEntry, TableRecord
+from server.protocol.models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
 
 
 class RateResult(StrEnum):

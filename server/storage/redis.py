@@ -22,8 +22,9 @@ from __future__ import annotations
 import redis.asyncio as aioredis
 from redis.exceptions import RedisError
 
-from server.api_models import BreakEntry, PlayerInfo, ReplayView
-from server.ratings import Rating
+from server.game.ratings import Rating
+from server.game.tables import InputEntry, TableRecord
+from server.protocol.models import BreakEntry, PlayerInfo, ReplayView
 from server.storage import (
     Accepted,
     AcceptResult,
@@ -34,7 +35,6 @@ from server.storage import (
     waiting,
     without_motion,
 )
-from server.tables import InputEntry, TableRecord
 
 P = "game:"
 

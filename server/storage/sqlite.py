@@ -33,8 +33,9 @@ from pathlib import Path
 
 import aiosqlite
 
-from server.api_models import BreakEntry, OutcomeMessage, PlayerInfo, ReplayView
-from server.ratings import Rating
+from server.game.ratings import Rating
+from server.game.tables import KEEP_IDLE, InputEntry, TableRecord
+from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, ReplayView
 from server.storage import (
     Accepted,
     AcceptResult,
@@ -43,7 +44,6 @@ from server.storage import (
     paired,
     waiting,
 )
-from server.tables import KEEP_IDLE, InputEntry, TableRecord
 
 #: Tables whose last stored record is kept in memory (least recently used dropped first).
 CACHED_TABLES = 1024

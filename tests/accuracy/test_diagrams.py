@@ -48,7 +48,8 @@ def test_without_matplotlib_the_command_says_so_in_one_line(tmp_path):
 def test_the_engine_and_the_server_never_import_matplotlib():
     res = _python(
         "import sys\n"
-        "import physics, physics.cli, physics.diagrams_cli, rules.game, server.cli, server.app\n"
+        "import physics, physics.cli, physics.diagrams_cli, rules.game, server.cli\n"
+        "import server.http.app\n"
         "from physics.examples import nineball_break\n"
         "physics.simulate(nineball_break())\n"
         "print(sorted(m for m in sys.modules if m.startswith('matplotlib')))"

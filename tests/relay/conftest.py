@@ -18,7 +18,7 @@ import msgpack
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
 
-from server.app import AppSettings, create_app
+from server.http.app import AppSettings, create_app
 from server.relay.backend import BackendConfig
 from server.relay.http import RELAY_KEY
 from server.relay.relay import Relay

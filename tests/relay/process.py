@@ -74,7 +74,7 @@ class RelayProcess:
 def main() -> None:
     from aiohttp import web
 
-    from server.app import AppSettings, create_app
+    from server.http.app import AppSettings, create_app
     from server.relay.settings import RelaySettings
     from tests.relay.conftest import SECRET
 

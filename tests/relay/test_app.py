@@ -9,11 +9,11 @@ import importlib.util
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
 
-from server.app import AppSettings, create_app, make_backend
+from server.http.app import AppSettings, create_app, make_backend
+from server.http.serve import new_event_loop, register
 from server.relay.http import RELAY_KEY
 from server.relay.memory import MemoryBackend
 from server.relay.settings import RelaySettings
-from server.serve import new_event_loop, register
 from tests.relay.conftest import SECRET, WAIT_S
 
 JSON = {"Accept": "application/json"}

@@ -14,7 +14,7 @@ import aiohttp
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
 
-from server.app import AppSettings, create_app
+from server.http.app import AppSettings, create_app
 from server.relay.http import RELAY_KEY
 from server.relay.payloads import MAX_DEPTH
 from server.relay.settings import RelaySettings

@@ -18,13 +18,13 @@ import aiohttp
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
 
-from server.api_models import Mode, PlayerInfo, TableCreate
-from server.app import AppSettings, create_app, relay_settings
-from server.service import SERVICE_KEY, Service
+from server.game.service import SERVICE_KEY, Service
+from server.game.tables import TableRecord, new_table
+from server.http.app import AppSettings, create_app, relay_settings
+from server.protocol.models import Mode, PlayerInfo, TableCreate
 from server.storage import Storage
 from server.storage.redis import RedisStorage
 from server.storage.sqlite import SqliteStorage
-from server.tables import TableRecord, new_table
 
 OpenStorage = Callable[[], Awaitable[Storage]]
 
@@ -175,4 +175,4 @@ async def server(start_server: StartServer) -> TestClient:
 
 
 def service_of(http: TestClient) -> Service:
-    return http.server.app[SERVICE_KEY]
+    return http.server.http.app[SERVICE_KEY]

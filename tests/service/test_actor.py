@@ -1,4 +1,4 @@
-"""The table actor's invariants (server/match.py) under random command sequences.
+"""The table actor's invariants (server/game/actor.py) under random command sequences.
 
 Two players, a spectator and the clock send random commands to one match over the API:
 shots (current, stale, resent, under reserved-looking ids), heartbeats, quick messages,
@@ -20,7 +20,7 @@ from typing import Any
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server.api_models import Status
+from server.protocol.models import Status
 from tests.service.conftest import Player, StartServer, register, service_of
 from tests.service.test_match import picked
 

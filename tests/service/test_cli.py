@@ -9,7 +9,7 @@ from pathlib import Path
 
 from aiohttp.test_utils import TestClient
 
-from server import refereeing
+from server.game import refereeing
 from tests.service.conftest import WAIT_S, StartServer, register, service_of
 
 BILLIARDS = [sys.executable, "-m", "server.cli"]

@@ -1,6 +1,6 @@
-"""The API client (server/client.py) and `billiards play` / `watch` on a connection that fails:
-a real server behind a real TCP proxy that cuts connections, refuses them for a while, or
-loses the answer to a request the server carried out (tests/service/flaky_proxy.py).
+"""The API client (server/client/api_client.py) and `billiards play` / `watch` on a connection
+that fails: a real server behind a real TCP proxy that cuts connections, refuses them for a
+while, or loses the answer to a request the server carried out (tests/service/flaky_proxy.py).
 
 The topology test (test_topology.py) kills a replica behind nginx; these hold each part of
 the client's behaviour to account on its own, without nginx: the feed resumes after the last
@@ -21,10 +21,16 @@ import aiohttp
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server import refereeing
-from server.api_models import IntentDuplicate, OutcomeMessage, QuickStatus, TableList, TableView
-from server.app import SERVICE_BUFFER
-from server.client import Change, GameClient, Patience, Refused, Unreachable
+from server.client.api_client import Change, GameClient, Patience, Refused, Unreachable
+from server.game import refereeing
+from server.http.app import SERVICE_BUFFER
+from server.protocol.models import (
+    IntentDuplicate,
+    OutcomeMessage,
+    QuickStatus,
+    TableList,
+    TableView,
+)
 from server.relay.settings import RelaySettings
 from tests.service.conftest import (
     SECRET,

@@ -7,8 +7,8 @@ from pathlib import Path
 
 from aiohttp.test_utils import TestClient
 
-from server import refereeing
-from server.client import from_json
+from server.client.api_client import from_json
+from server.game import refereeing
 from server.storage.sqlite import SqliteStorage
 from tests.service.conftest import StartServer, register, service_of, watch
 

@@ -1,4 +1,4 @@
-"""server.collector: the started application's heap is frozen; what is made later is still
+"""server.http.collector: the started application's heap is frozen; what is made later is still
 collected (a closed connection's cycles must be freed)."""
 
 from __future__ import annotations
@@ -8,8 +8,8 @@ import weakref
 
 from aiohttp.test_utils import TestClient, TestServer
 
-from server import collector
-from server.app import create_app
+from server.http import collector
+from server.http.app import create_app
 
 
 class Cycle:

@@ -87,7 +87,7 @@ def test_every_copy_source_exists_in_the_build_context_and_is_not_ignored():
                 assert not ignored(source, ignore), f"COPY {source}: left out by dockerignore"
     assert copies >= 3
     # What the image runs: the package, its console script, and the web client built into it.
-    assert not ignored("server/app.py", ignore) and not ignored("pyproject.toml", ignore)
+    assert not ignored("server/http/app.py", ignore) and not ignored("pyproject.toml", ignore)
     assert "web/dist" in dockerfile.read_text()
 
 

@@ -7,10 +7,11 @@ import time
 
 from aiohttp.test_utils import TestClient
 
-from server.app import SERVICE_BUFFER
-from server.expiry import sweep
+from server.game.expiry import sweep
+from server.game.tables import KEEP_IDLE
+from server.http.app import SERVICE_BUFFER
+from server.protocol.ids import table_channel as channel_of
 from server.relay.payloads import JSON
-from server.tables import KEEP_IDLE, channel_of
 from tests.service.conftest import a_table, service_of
 
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from server.errors import ErrorCode, ServiceError
-from server.identity import TOKEN_TTL, Identity
+from server.game.identity import TOKEN_TTL, Identity
+from server.protocol.errors import ErrorCode, ServiceError
 from server.relay.auth import TokenAuthority
 from server.storage import Storage
 

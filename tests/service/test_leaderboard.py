@@ -8,8 +8,8 @@ from aiohttp.test_utils import TestClient
 
 from rules.game import Setup
 from rules.selfplay import selfplay
-from server import refereeing
-from server.client import from_json
+from server.client.api_client import from_json
+from server.game import refereeing
 from tests.service.conftest import register, watch
 from tests.service.test_match import picked
 

@@ -7,7 +7,7 @@ import time
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server.tables import PRESENCE_TIMEOUT
+from server.protocol.ids import PRESENCE_TIMEOUT
 from tests.service.conftest import StartServer, register, service_of, watch
 from tests.service.test_match import abandon_input, picked, seated_match
 

@@ -8,8 +8,9 @@ import time
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server import lobby
-from server.lobby import BATCH, new_table_id
+from server.game import lobby
+from server.game.lobby import BATCH
+from server.protocol.ids import new_table_id
 from tests.service.conftest import Watcher, register, service_of, watch
 
 

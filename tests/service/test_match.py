@@ -9,13 +9,13 @@ from typing import Any
 
 from aiohttp.test_utils import TestClient
 
-from server import refereeing
-from server.api_models import Intent, PlayerInfo
-from server.client import from_json
-from server.commands import Play
-from server.match import LEASE
+from server.client.api_client import from_json
+from server.game import refereeing
+from server.game.actor import LEASE
+from server.game.commands import Play
+from server.game.tables import InputEntry
+from server.protocol.models import Intent, PlayerInfo
 from server.storage import Storage
-from server.tables import InputEntry
 from tests.service.conftest import Player, register, service_of, watch
 
 

@@ -23,7 +23,7 @@ import schemathesis
 from hypothesis import HealthCheck, settings
 from schemathesis.config import SchemathesisConfig
 
-from server.openapi import openapi_document
+from server.http.openapi import openapi_document
 from tests.redis_server import free_port
 
 CONFIG = SchemathesisConfig.from_str(

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from server.ratings import Rating, after_match, update
+from server.game.ratings import Rating, after_match, update
 
 
 def test_glickmans_worked_example() -> None:

@@ -7,10 +7,10 @@ import pytest
 from rules.pickers import pick
 from rules.pool import POCKETS
 from rules.record import replay
-from server import refereeing, tables
-from server.api_models import Constraints, InputKind, Mode, TableCreate
-from server.refereeing import GameName
-from server.tables import new_table
+from server.game import refereeing, tables
+from server.game.refereeing import GameName
+from server.game.tables import new_table
+from server.protocol.models import Constraints, InputKind, Mode, TableCreate
 from tests.service.conftest import ADA
 
 

@@ -11,10 +11,10 @@ from aiohttp.test_utils import TestClient
 
 import physics
 from rules.record import GameRecord, replay
-from server import replays
-from server.api_models import ReplayView
-from server.errors import ErrorCode, ServiceError
-from server.replays import ReplayShotsCache, shots_json
+from server.game import replays
+from server.game.replays import ReplayShotsCache, shots_json
+from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.models import ReplayView
 from server.storage import Storage
 from tests.service.conftest import register, watch
 from tests.service.test_leaderboard import _record

@@ -1,5 +1,5 @@
 """Each way a match could once be stalled, over real sockets (the table actor's invariants,
-server/match.py): reserved input ids, a seat that never said it was here, a quick-match
+server/game/actor.py): reserved input ids, a seat that never said it was here, a quick-match
 request whose client died, a restart that lost the relay's buffers, a rematch race."""
 
 from __future__ import annotations
@@ -11,8 +11,9 @@ from typing import Any
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server import lobby, tables
-from server.api_models import BotName, Mode, TableCreate
+from server.game import lobby, tables
+from server.protocol.ids import BotName
+from server.protocol.models import Mode, TableCreate
 from server.relay.frames import GAP_TYPE
 from server.storage import Storage
 from tests.service.conftest import (

@@ -9,13 +9,13 @@ from pathlib import Path
 
 import pytest
 
-from server import refereeing
-from server.api_models import BreakEntry, Source, Status
-from server.match import rate
-from server.ratings import Rating
+from server.game import refereeing
+from server.game.actor import rate
+from server.game.ratings import Rating
+from server.game.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join, played
+from server.protocol.models import BreakEntry, Source, Status
 from server.storage import AcceptResult, RateResult, Storage
 from server.storage.sqlite import SCHEMA, SqliteStorage
-from server.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join, played
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
 
 

@@ -31,10 +31,10 @@ import pytest
 from aiohttp import web
 from aiohttp.test_utils import TestServer
 
-from server.api import MAX_RECORD_BODY
-from server.api_models import OutcomeMessage, Status
-from server.client import GameClient
-from server.play_cli import names_of, outcome_line
+from server.client.api_client import GameClient
+from server.client.play import names_of, outcome_line
+from server.protocol.ids import MAX_RECORD_BODY
+from server.protocol.models import OutcomeMessage, Status
 from tests.redis_server import free_port
 from tests.service.conftest import WAIT_S
 from tests.service.test_cli import run
@@ -50,7 +50,7 @@ START_TIMEOUT_S = 10.0
 #: every replica it was sent to in order (more than one when nginx passed it on to the next),
 #: so the test sees where requests went.
 ACCESS_LOG = "$status $request_method $request_uri $upstream_addr"
-#: An outcome line of `billiards play` (server.play_cli.outcome_line): the version, then who
+#: An outcome line of `billiards play` (server.client.play.outcome_line): the version, then who
 #: played (a resync prints `vN table <status>: ...` instead).
 OUTCOME_LINE = re.compile(r"^v(\d+)\s+(?!table )\S[^:]*: ")
 

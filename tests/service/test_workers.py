@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from server import refereeing
+from server.game import refereeing
+from server.game.workers import WorkerPool
 from server.storage.sqlite import SqliteStorage, token_key
-from server.workers import WorkerPool
 
 
 async def test_a_dead_worker_is_replaced_and_the_next_shot_is_played() -> None:

@@ -1,11 +1,12 @@
-"""server/diagrams.py: the curves follow the constants asked for, and bad input computes nothing."""
+"""server/http/diagrams.py: the curves follow the constants asked for, and bad input computes
+nothing."""
 
 from __future__ import annotations
 
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server.diagrams import INPUTS, mount_diagrams
+from server.http.diagrams import INPUTS, mount_diagrams
 
 
 @pytest.fixture

@@ -1,4 +1,4 @@
-"""server/web.py: the page URLs, the built files and the tables' geometry."""
+"""server/http/pages.py: the page URLs, the built files and the tables' geometry."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import gzip
 import pytest
 
 from physics.tables import PRESETS
-from server import web as web_module
-from server.web import GAMES, mount_web, table_view
+from server.http import pages as web_module
+from server.http.pages import GAMES, mount_web, table_geometry
 
 
 @pytest.fixture
@@ -86,4 +86,4 @@ async def test_tables_are_the_engines_geometry(client):
     assert tables["three_cushion"]["pockets"] == []
     assert tables["snooker"]["baulk_y"] < tables["snooker"]["l"] / 2
     assert set(tables["snooker"]["spots"]) == {"yellow", "green", "brown", "blue", "pink", "black"}
-    assert table_view("eightball").head_string_y == pytest.approx(tables["eightball"]["l"] / 4)
+    assert table_geometry("eightball").head_string_y == pytest.approx(tables["eightball"]["l"] / 4)

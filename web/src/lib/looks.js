@@ -1,6 +1,6 @@
 // How each game looks: cloth, rail and ball colours, and which balls carry numbers or stripes.
 
-export const GAMES = ["nineball", "eightball", "snooker", "three_cushion"];
+export { GAMES } from "../net/protocol.js";
 
 export const GAME_NAMES = {
   nineball: "Nine-ball",

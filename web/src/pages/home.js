@@ -5,10 +5,9 @@ import { call, currentPlayer, get, post, register, storedPlayer } from "../net/a
 import { ensurePlayer, showWho } from "../net/identity.js";
 import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
+import { LOBBY, playerChannel, QUICK_POLL_MS } from "../net/protocol.js";
 
 const $ = (id) => document.getElementById(id);
-/** How often a waiting client polls its quick-match request (the server's QUICK_POLL). */
-const QUICK_POLL_MS = 5000;
 
 function error(e) {
   $("home-error").textContent = e ? e.message : "";
@@ -34,7 +33,7 @@ async function quickMatch(game, button) {
   const status = await post("/api/quick", { game });
   if (status.status === "paired") return go(status.table);
   button.textContent = "Waiting for an opponent... (cancel)";
-  waiting = new Subscription(`player-${me.id}`, {
+  waiting = new Subscription(playerChannel(me.id), {
     onMessage: (m) => m.kind === "paired" && go(m.table),
   });
   // The server keeps a request only while it is polled (a closed page is never paired); the
@@ -128,7 +127,7 @@ async function main() {
   get("/api/tables")
     .then((list) => showTables(list.tables, null))
     .catch(error);
-  new Subscription("public-lobby", {
+  new Subscription(LOBBY, {
     onMessage: (m) => m.kind === "lobby" && showTables(m.tables, m.players_online),
   });
 }

@@ -4,9 +4,8 @@
 // relay reports, fetches the full view again. Outcomes are handed on one at a time, each after
 // the previous one's animation has finished.
 import { get, post, shotId } from "../net/api.js";
+import { HEARTBEAT_MS } from "../net/protocol.js";
 import { Subscription } from "../net/relay.js";
-
-const HEARTBEAT_MS = 3000;
 
 export class TableSession {
   /**

@@ -1,5 +1,6 @@
 // The referee's decisions and the table's state in words, for the status line (role="status",
 // read out by screen readers) and the scoreboard. Names are always set as text, never as HTML.
+import { CLOCK_PREFIX } from "../net/protocol.js";
 
 const OPTION_WORDS = {
   play_on: "Play on",
@@ -60,7 +61,7 @@ export function decisionWords(view, d) {
 /** An outcome's words (its decision's), after why the server played it if it did: the shot id
  *  `clock:<version>` is the stroke played for a seat whose shot clock ran out. */
 export function outcomeWords(view, outcome) {
-  const clock = outcome.shot_id?.startsWith("clock:") ? `${seatName(view, outcome.seat)}'s shot clock ran out. ` : "";
+  const clock = outcome.shot_id?.startsWith(CLOCK_PREFIX) ? `${seatName(view, outcome.seat)}'s shot clock ran out. ` : "";
   return clock + decisionWords(view, outcome.decision);
 }
 

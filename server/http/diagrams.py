@@ -28,7 +28,7 @@ import physics
 from physics.accuracy_data import rebound, throw_angle
 from physics.cue import MISCUE_LIMIT
 from physics.params import POOL
-from server.trajectories import wire_trajectory
+from server.protocol.trajectories import wire_trajectory
 
 #: Cut angles (degrees) of the throw curves, and incidences of the cushion curves.
 CUTS = tuple(range(0, 91, 2))

@@ -1,7 +1,7 @@
 """The game service's HTTP endpoints under `/api/` (docs/protocol.md), declared in one table.
 
 `ROUTES` is the single source for both the router and the OpenAPI description
-(server/openapi.py): each route names its request model and its answers by status. Bodies are
+(server/http/openapi.py): each route names its request model and its answers by status. Bodies are
 JSON of at most `MAX_BODY` bytes (claims: `MAX_RECORD_BODY`), parsed into their pydantic model
 in strict mode (unknown fields, wrong types such as `"3.0"` or `true` for a number, NaN and
 over-deep nesting are refused there); every refusal is `ApiError` JSON.
@@ -19,8 +19,14 @@ from aiohttp import web
 from pydantic import BaseModel, ValidationError
 from redis.exceptions import RedisError
 
-from server import commands, tables
-from server.api_models import (
+from server.game import commands, tables
+from server.game.lobby import new_seed
+from server.game.service import SERVICE_KEY, Service, running_service
+from server.game.tables import GRACE, TableRecord
+from server.protocol import ids
+from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.ids import MAX_BODY, MAX_RECORD_BODY, new_table_id
+from server.protocol.models import (
     ApiError,
     BreakEntry,
     ChatMessage,
@@ -45,23 +51,15 @@ from server.api_models import (
     TableList,
     TableView,
 )
-from server.errors import ErrorCode, ServiceError
-from server.lobby import new_seed, new_table_id
-from server.relay.addresses import client_address
-from server.relay.http import bearer_token, relay_of
-from server.relay.payloads import JSON, media_type
-from server.relay.relay import Relay
-from server.service import SERVICE_KEY, Service, running_service
+from server.relay import JSON, Relay, bearer_token, client_address, media_type, relay_of
 from server.storage import StorageError
-from server.tables import GRACE, TableRecord
 
-#: Largest request body accepted (bytes): an intent is a few hundred.
-MAX_BODY = 16 * 1024
-#: Largest claim body (bytes): a long game's record (rules.record.MAX_INPUTS inputs).
-MAX_RECORD_BODY = 1024 * 1024
-TABLE_ID = r"{table:[0-9a-f]{20}}"
-GAME = r"{game:nineball|eightball|snooker|three_cushion}"
-NAME = r"{name:[A-Za-z0-9_. \-]{1,24}}"
+# Route parameters, from the protocol's formats (server/protocol/ids.py).
+TABLE_ID = f"{{table:{ids.TABLE_ID_CORE}}}"
+GAME = f"{{game:{'|'.join(ids.GAMES)}}}"
+NAME = f"{{name:{ids.NAME_CORE}}}"
+PLAYER_ID = f"{{player:{ids.PLAYER_ID_CORE}}}"
+REPLAY_ID = f"{{replay:{ids.REPLAY_ID_CORE}}}"
 
 M = TypeVar("M", bound=BaseModel)
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
@@ -326,7 +324,7 @@ ROUTES: tuple[Route, ...] = (
     Route("POST", "/api/players", register, "A guest identity and its token", {201: PlayerToken},
           PlayerCreate, auth=False, refusals=(ErrorCode.NAME_TAKEN, ErrorCode.RATE_LIMITED)),
     Route("GET", "/api/me", me, "The player a token names", {200: PlayerInfo}),
-    Route("GET", "/api/players/{player:p_[0-9a-f]{16}}/ratings", player_ratings,
+    Route("GET", f"/api/players/{PLAYER_ID}/ratings", player_ratings,
           "A player's rating in each game", {200: PlayerRatings}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
     Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate,
@@ -353,9 +351,9 @@ ROUTES: tuple[Route, ...] = (
           refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},
           QuickMessageRequest, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
-    Route("GET", "/api/replays/{replay:[0-9a-f]{24}}", get_replay, "A rack's replay",
+    Route("GET", f"/api/replays/{REPLAY_ID}", get_replay, "A rack's replay",
           {200: ReplayView}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
-    Route("GET", "/api/replays/{replay:[0-9a-f]{24}}/shots", replay_shots,
+    Route("GET", f"/api/replays/{REPLAY_ID}/shots", replay_shots,
           "Every input of a replay with its outcome and motion", {200: ReplayShots}, auth=False,
           refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED, ErrorCode.ILLEGAL_INPUT)),
     Route("GET", f"/api/leaderboard/{GAME}", leaderboard, "A game's highest breaks",
@@ -399,7 +397,7 @@ async def api_errors(request: web.Request, handler: Handler) -> web.StreamRespon
 
 
 async def _openapi(request: web.Request) -> web.Response:
-    from server.openapi import openapi_document
+    from server.http.openapi import openapi_document
 
     return web.json_response(openapi_document())
 

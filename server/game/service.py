@@ -12,20 +12,19 @@ from dataclasses import dataclass, field
 
 from aiohttp import web
 
-from server.channels import Publisher
-from server.clock import running_clock
-from server.errors import ErrorCode, ServiceError
-from server.expiry import running_expiry
-from server.identity import Identity
-from server.leaderboard import Breaks
-from server.lobby import Lobby
-from server.match import MatchContext, Matches, new_replica_id
-from server.relay.limits import RateLimiter
-from server.relay.relay import Relay
-from server.replays import ReplayShotsCache
+from server.game.actor import MatchContext, Matches, new_replica_id
+from server.game.clock import running_clock
+from server.game.expiry import running_expiry
+from server.game.identity import Identity
+from server.game.leaderboard import Breaks
+from server.game.lobby import Lobby
+from server.game.publisher import Publisher
+from server.game.replays import ReplayShotsCache
+from server.game.tables import GRACE
+from server.game.workers import WorkerPool, default_workers
+from server.protocol.errors import ErrorCode, ServiceError
+from server.relay import RateLimiter, Relay
 from server.storage import Storage
-from server.tables import GRACE
-from server.workers import WorkerPool, default_workers
 
 #: (requests per second, burst) per caller for what makes the server store or send something:
 #: new identities per client address, tables, quick-match requests and heartbeats per player,

@@ -7,7 +7,7 @@ passed while the server was down is ruled as soon as it is back. Each process lo
 tables every `TICK` seconds and tells their actors `ClockExpiry`: the actor plays the timeout
 input (`refereeing.timeout_input`, a dead-slow stroke that hits no ball, or the first option of
 a pending choice) through the ordinary match path, under the input id `clock:<version>` (an id
-no client can send: server/commands.py), so the referee rules it as each game's rules rule a
+no client can send: server/game/commands.py), so the referee rules it as each game's rules rule a
 shot that hits nothing (pool and snooker: a foul, three-cushion: the turn passes) and the
 record holds it like any input. There is no warning first; clients show the deadline from
 `next.deadline`.
@@ -20,9 +20,9 @@ import logging
 import time
 from contextlib import AbstractAsyncContextManager
 
-from server.background import running
-from server.commands import ClockExpiry
-from server.match import Matches
+from server.game.actor import Matches
+from server.game.background import running
+from server.game.commands import ClockExpiry
 from server.storage import Storage
 
 log = logging.getLogger(__name__)

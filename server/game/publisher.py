@@ -4,22 +4,15 @@ Clients publish through the relay's checks (tokens, rate, the 64 KiB client limi
 service is the relay's owner, so its messages skip the per-holder rate limit (a busy server
 publishes far more than one player) and the client size limit (an eight-ball break's outcome,
 trajectory included, is about 40 KB of JSON). Messages are the pydantic models of
-server/api_models.py as JSON, which every transport (WebSocket, EventSource, long-poll) carries.
+server/protocol/models.py as JSON, which every transport (WebSocket, EventSource, long-poll)
+carries.
 """
 
 from __future__ import annotations
 
 from pydantic import BaseModel
 
-from server.relay.messages import Published
-from server.relay.payloads import JSON
-from server.relay.relay import Relay
-
-LOBBY = "public-lobby"
-
-
-def player_channel(player_id: str) -> str:
-    return f"player-{player_id}"
+from server.relay import JSON, Published, Relay
 
 
 class Publisher:

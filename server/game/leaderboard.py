@@ -23,8 +23,15 @@ import time
 
 from pydantic import ValidationError
 
-from server import refereeing, tables
-from server.api_models import (
+from server.game import refereeing, tables
+from server.game.publisher import Publisher
+from server.game.refereeing import PlayerInput, State
+from server.game.replays import rack_replay, record_refused, replay_url
+from server.game.tables import TableRecord
+from server.game.workers import WorkerPool
+from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.ids import new_replay_id
+from server.protocol.models import (
     BreakEntry,
     ClaimRequest,
     ClaimVerdict,
@@ -34,13 +41,7 @@ from server.api_models import (
     ReplayView,
     Source,
 )
-from server.channels import Publisher
-from server.errors import ErrorCode, ServiceError
-from server.refereeing import PlayerInput, State
-from server.replays import new_replay_id, rack_replay, record_refused, replay_url
 from server.storage import Storage
-from server.tables import TableRecord
-from server.workers import WorkerPool
 
 LEADERBOARD = "public-leaderboard"
 #: Claims replayed at once per process (a long record keeps a worker busy for seconds); more

@@ -2,9 +2,9 @@
 
 In each server process a table has at most one `TableActor`: a queue of jobs and one task that
 runs them in order (the task ends when the queue is empty, so idle tables cost nothing). Every
-command is a typed value (server/commands.py): the players' `Play`, `Join`, `Leave`, `Resign`,
+command is a typed value (server/game/commands.py): the players' `Play`, `Join`, `Leave`, `Resign`,
 `Claim`, `Rematch`, `Heartbeat` and `QuickMessage`, handed over by the HTTP handlers with
-`ask`, and the server's own `ClockExpiry` (server/clock.py) and `BotMove`, queued with `tell`.
+`ask`, and the server's own `ClockExpiry` (server/game/clock.py) and `BotMove`, queued with `tell`.
 Every job starts from a fresh read of the stored table, so replicas sharing a Redis see each
 other's moves, and every change is stored with a compare-and-set on the table's version.
 
@@ -14,7 +14,7 @@ The life of an input (docs/protocol.md, Playing: intents):
    check (no physics). A refusal is answered at once and changes nothing.
 2. **accept**: store the input as the table's pending input with a compare-and-set on the
    version (server/storage, invariants 2-4). Only now is the client told `accepted`.
-3. **play** it in a worker process (server/workers.py), never on the event loop.
+3. **play** it in a worker process (server/game/workers.py), never on the event loop.
 4. **resolve**: store the new record (next version) and the outcome with a compare-and-set
    that requires this input still pending, and only if that succeeds **publish** the outcome on
    the table's channel.
@@ -31,13 +31,13 @@ these on both storage backends; tests/service/test_stalls.py holds each over rea
 -----------------------------------------------------------------------------------------------
 1. **The clock acts.** A table whose seat to act has a deadline gets an input for that seat
    at the deadline (`ClockExpiry`, the input `clock:<version>`), whatever any client sent:
-   server inputs carry ids no client can send (server/commands.py), so a client's shot id
+   server inputs carry ids no client can send (server/game/commands.py), so a client's shot id
    can never be taken for one of them.
 2. **Absence can be claimed.** A seat that left, or never sent a heartbeat at all, is absent
    `PRESENCE_TIMEOUT` after it was last seen (or after the match started) and claimable by
-   its opponent `grace` seconds later (server/tables.py, `last_seen`).
+   its opponent `grace` seconds later (server/game/tables.py, `last_seen`).
 3. **Quick requests lapse.** A quick-match request lapses when its client stops asking or
-   polling (server/lobby.py, storage invariant 11), and a quick match has a shot clock.
+   polling (server/game/lobby.py, storage invariant 11), and a quick match has a shot clock.
 4. **One rematch.** A finished match has at most one rematch table, however many offers and
    accepts arrive on however many replicas: its id is fixed by the match
    (`tables.rematch_id`) and the link is stored with a compare-and-set before it is created.
@@ -59,8 +59,17 @@ from collections import OrderedDict, deque
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
 
-from server import commands, ratings, refereeing, tables
-from server.api_models import (
+from server.game import commands, ratings, refereeing, tables
+from server.game.commands import ClientCommand, Command
+from server.game.leaderboard import Breaks
+from server.game.lobby import new_seed
+from server.game.publisher import Publisher
+from server.game.ratings import Rating
+from server.game.tables import GRACE, InputEntry, TableRecord
+from server.game.workers import WorkerPool
+from server.protocol import ids
+from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.models import (
     ChatMessage,
     IntentAccepted,
     IntentDuplicate,
@@ -70,15 +79,7 @@ from server.api_models import (
     Status,
     TableMessage,
 )
-from server.channels import Publisher
-from server.commands import ClientCommand, Command
-from server.errors import ErrorCode, ServiceError
-from server.leaderboard import Breaks
-from server.lobby import new_seed
-from server.ratings import Rating
 from server.storage import AcceptResult, RateResult, Storage
-from server.tables import GRACE, InputEntry, TableRecord
-from server.workers import WorkerPool
 
 log = logging.getLogger(__name__)
 
@@ -425,7 +426,7 @@ class TableActor:
             return
         occupant = record.seats[seat]
         assert occupant is not None
-        shot_id = commands.server_input_id(commands.CLOCK_PREFIX, record.version)
+        shot_id = ids.server_input_id(ids.CLOCK_PREFIX, record.version)
         action = refereeing.timeout_input(record.state)
         await self._play_quietly(Move(occupant, record.version, shot_id, action, on_time=False))
 
@@ -445,7 +446,7 @@ class TableActor:
         while len(searched) > SEARCHES_KEPT:
             searched.popitem(last=False)
         action = await self._context.pool.bot_input(record.state, tables.chooser_of(occupant))
-        shot_id = commands.server_input_id(commands.BOT_PREFIX, record.version)
+        shot_id = ids.server_input_id(ids.BOT_PREFIX, record.version)
         await self._play_quietly(Move(occupant, record.version, shot_id, action))
 
     async def _play_quietly(self, move: Move) -> None:

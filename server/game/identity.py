@@ -17,14 +17,14 @@ away, and a token's signature stays genuine; only its expiry is checked again, e
 
 from __future__ import annotations
 
-import secrets
 import time
 from collections import OrderedDict
 from collections.abc import Callable
 
-from server.api_models import PlayerInfo, PlayerToken
-from server.errors import ErrorCode, ServiceError
-from server.relay.auth import AuthError, TokenAuthority
+from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.ids import new_player_id
+from server.protocol.models import PlayerInfo, PlayerToken
+from server.relay import AuthError, TokenAuthority
 from server.storage import Storage
 
 #: How long a player's token is valid (s): a month of coming back to the same name.
@@ -50,7 +50,7 @@ class Identity:
 
     async def register(self, name: str) -> PlayerToken:
         """A new player with `name` and its token; NAME_TAKEN if a player online has it."""
-        player = PlayerInfo(id=f"p_{secrets.token_hex(8)}", name=name)
+        player = PlayerInfo(id=new_player_id(), name=name)
         now = time.time()
         if not await self._storage.claim_name(name_key(name), player.id, now + ONLINE, now):
             raise ServiceError(ErrorCode.NAME_TAKEN, f"the name {name!r} is in use")

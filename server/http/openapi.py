@@ -14,9 +14,9 @@ from typing import Any
 from pydantic import BaseModel
 from pydantic.json_schema import models_json_schema
 
-from server.api import ROUTES, Route
-from server.api_models import ApiError
-from server.errors import STATUS, ErrorCode
+from server.http.api import ROUTES, Route
+from server.protocol.errors import STATUS, ErrorCode
+from server.protocol.models import ApiError
 
 _REF = "#/components/schemas/{model}"
 _PARAM = re.compile(r"\{(\w+):([^{}]*(?:\{\d+(?:,\d+)?\}[^{}]*)*)\}")

@@ -1,12 +1,12 @@
 """`billiards play`, `watch` and `submit`: a match, a table's outcomes, a claimed break.
 
-Both talk to a server only through its public API (server/client.py). `play` registers a
+Both talk to a server only through its public API (server/client/api_client.py). `play` registers a
 guest, gets a table (quick match, a new table, a private link, practice or the bot), then
 plays every shot its seat is to play with a shot chooser (`--bot picker`, the rules' shot
 pickers, by default; `--bot bot:N` the searching bot at level N, `--bot bot` its strongest)
 and prints each outcome as it arrives, one line each, until the match is over, sending the
 heartbeats a seated player owes meanwhile. `watch` prints a table's outcomes until it is over.
-Both ride out a connection that drops (server/client.py reconnects, resumes and resends
+Both ride out a connection that drops (server/client/api_client.py reconnects, resumes and resends
 what is safe to resend) and give up after `--patience` seconds without an answer.
 `submit` sends a game record (as `billiards selfplay --record` writes it), a name and the
 claimed score to the leaderboard, and prints the verdict. Exit status 0 on success (for
@@ -24,13 +24,13 @@ from collections.abc import Awaitable, Callable
 from functools import partial
 from typing import TYPE_CHECKING
 
-from server.api_models import OutcomeMessage, Status, TableView
+from server.protocol.models import OutcomeMessage, Status, TableView
 
 if TYPE_CHECKING:
     import aiohttp
 
     from rules.bot.chooser import Chooser
-    from server.client import GameClient
+    from server.client.api_client import GameClient
 
 
 def outcome_line(change: TableView | OutcomeMessage, names: list[str]) -> str:
@@ -55,7 +55,7 @@ def names_of(view: TableView) -> list[str]:
 
 async def _open_table(client: GameClient, args: argparse.Namespace) -> TableView:
     if args.join:
-        from server.client import table_id_of
+        from server.client.api_client import table_id_of
 
         return await client.join(table_id_of(args.join))
     if args.practice:
@@ -74,7 +74,7 @@ async def _open_table(client: GameClient, args: argparse.Namespace) -> TableView
 async def _shoot_if_mine(
     chooser: Chooser, client: GameClient, view_id: str, change: TableView | OutcomeMessage
 ) -> None:
-    from server.client import Refused
+    from server.client.api_client import Refused
 
     nxt = change.next
     if nxt is None or nxt.player != client.player.id:
@@ -96,7 +96,7 @@ async def _print_changes(client: GameClient, view: TableView, react: React | Non
     """Print each change of the table until the match is over, reacting to each (0: over).
     The feed rides out dropped connections; if it ends before the match does (the table's
     channel was deleted), that is a failure, never a success."""
-    from server.client import Refused, finished
+    from server.client.api_client import Refused, finished
 
     names = names_of(view)
     async for change in client.follow(view):
@@ -114,7 +114,7 @@ async def play(args: argparse.Namespace) -> int:
     import aiohttp
 
     from rules.bot.chooser import chooser
-    from server.client import Refused
+    from server.client.api_client import Refused
 
     try:
         shoot = partial(_shoot_if_mine, chooser(args.bot, secrets.randbits(32)))
@@ -133,7 +133,7 @@ async def play(args: argparse.Namespace) -> int:
 async def watch(args: argparse.Namespace) -> int:
     import aiohttp
 
-    from server.client import finished, table_id_of
+    from server.client.api_client import finished, table_id_of
 
     # No heartbeats: they are a seated player's (the API refuses a spectator's); a spectator
     # is counted by its feed, which the client keeps open.
@@ -153,8 +153,8 @@ async def submit(args: argparse.Namespace) -> int:
 
     import aiohttp
 
-    from server.api_models import ClaimVerdict
-    from server.client import GameClient, Refused
+    from server.client.api_client import GameClient, Refused
+    from server.protocol.models import ClaimVerdict
 
     try:
         record = json.loads(Path(args.record).read_text())
@@ -177,7 +177,7 @@ async def submit(args: argparse.Namespace) -> int:
 def _run(
     command: Callable[[argparse.Namespace], Awaitable[int]],
 ) -> Callable[[argparse.Namespace], int]:
-    from server.client import Refused, Unreachable, one_line
+    from server.client.api_client import Refused, Unreachable, one_line
 
     def handler(args: argparse.Namespace) -> int:
         try:
@@ -237,7 +237,7 @@ def _patience_option(parser: argparse.ArgumentParser) -> None:
 
 def _client(args: argparse.Namespace, session: aiohttp.ClientSession) -> GameClient:
     """The API client of a command, as patient as `--patience` asks."""
-    from server.client import GameClient, Patience
+    from server.client.api_client import GameClient, Patience
 
     patience = Patience() if args.patience is None else Patience(give_up=args.patience)
     return GameClient(args.url, session, patience)

@@ -21,10 +21,13 @@ import secrets
 import time
 from contextlib import AbstractAsyncContextManager
 
-from server import tables
-from server.api_models import (
-    QUICK_LAPSE,
-    QUICK_SHOT_CLOCK,
+from server.game import tables
+from server.game.background import running
+from server.game.publisher import Publisher
+from server.game.tables import TableRecord
+from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.ids import LOBBY, QUICK_LAPSE, QUICK_SHOT_CLOCK, new_table_id, player_channel
+from server.protocol.models import (
     LobbyMessage,
     PairedMessage,
     PlayerInfo,
@@ -33,11 +36,7 @@ from server.api_models import (
     TableList,
     TableSummary,
 )
-from server.background import running
-from server.channels import LOBBY, Publisher, player_channel
-from server.errors import ErrorCode, ServiceError
 from server.storage import Pairing, Storage
-from server.tables import TableRecord
 
 log = logging.getLogger(__name__)
 
@@ -48,11 +47,6 @@ LISTED = 100
 #: Seconds after a pairing during which a missing table is created by whoever asks (the
 #: request that paired them normally creates it within milliseconds); later it has expired.
 PAIRING_KEPT = 60.0
-
-
-def new_table_id() -> str:
-    """80 random bits: a private table's id is its invitation and cannot be guessed."""
-    return secrets.token_hex(10)
 
 
 def new_seed() -> int:

@@ -20,20 +20,20 @@ The browser runs no physics, so `GET /api/replays/{id}/shots` answers every inpu
 from __future__ import annotations
 
 import asyncio
-import secrets
 import time
 from collections import OrderedDict
 from typing import TYPE_CHECKING
 
-from server import refereeing
-from server.api_models import ReplayShot, ReplayShots, ReplayView
-from server.errors import ErrorCode, ServiceError
-from server.refereeing import GameRecord, State
+from server.game import refereeing
+from server.game.refereeing import GameRecord, State
+from server.game.tables import TableRecord
+from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.ids import new_replay_id
+from server.protocol.models import ReplayShot, ReplayShots, ReplayView
 from server.storage import Storage
-from server.tables import TableRecord
 
 if TYPE_CHECKING:
-    from server.workers import WorkerPool
+    from server.game.workers import WorkerPool
 
 #: Replays computed at once per process (a long frame keeps a worker busy for seconds), so that
 #: replays cannot starve the matches of workers.
@@ -41,10 +41,6 @@ MAX_REPLAYING = 1
 #: Bytes of answers kept per process (a nine-ball rack's is some 100 KB, a snooker frame's a
 #: few MB).
 CACHE_BYTES = 32 * 1024 * 1024
-
-
-def new_replay_id() -> str:
-    return secrets.token_hex(12)
 
 
 def replay_url(replay_id: str) -> str:

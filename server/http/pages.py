@@ -22,11 +22,11 @@ from pydantic import BaseModel, ConfigDict
 from rules.racks import Game
 from rules.referee import referee
 from rules.spots import BAULK_Y, D_RADIUS, SNOOKER_SPOTS, Point, Table
+from server.protocol.ids import GAMES
 
 #: Where `npm run build` writes the client.
 DIST = Path(__file__).resolve().parent.parent / "web" / "dist"
 
-GAMES: tuple[str, ...] = tuple(game.value for game in Game)
 
 #: Each page URL and the HTML file that answers it.
 PAGES: dict[str, str] = {
@@ -63,7 +63,7 @@ class Circle(BaseModel):
     radius: float
 
 
-class TableView(BaseModel):
+class TableGeometry(BaseModel):
     """What the client needs to draw one game's table, in the engine's coordinates (metres).
 
     spots: the marked spots by name (pool's head and foot spots, snooker's colour spots, the
@@ -87,14 +87,14 @@ class TableView(BaseModel):
     head_string_y: float | None = None
 
 
-def table_view(game: str) -> TableView:
+def table_geometry(game: str) -> TableGeometry:
     """The drawable table of `game`, built from the referee's table and the engine's geometry."""
     table: Table = referee(Game(game)).TABLE
     geometry = table.spec.geometry()
     snooker = table.preset == "snooker"
     pool = game in ("nineball", "eightball")
     spots = dict(SNOOKER_SPOTS) if snooker else {"head": table.head_spot, "foot": table.foot_spot}
-    return TableView(
+    return TableGeometry(
         game=game,
         w=table.width,
         l=table.length,
@@ -115,7 +115,7 @@ def table_view(game: str) -> TableView:
 
 
 #: The tables never change while the server runs: built once, at import.
-TABLES_JSON = "{" + ",".join(f'"{g}":{table_view(g).model_dump_json()}' for g in GAMES) + "}"
+TABLES_JSON = "{" + ",".join(f'"{g}":{table_geometry(g).model_dump_json()}' for g in GAMES) + "}"
 
 
 async def tables(_: web.Request) -> web.Response:
@@ -158,7 +158,7 @@ async def short_link(request: web.Request) -> web.StreamResponse:
 
 def mount_web(app: web.Application) -> None:
     """Add the client's pages, files and table geometry to the app (and the diagrams' data)."""
-    from server.diagrams import mount_diagrams
+    from server.http.diagrams import mount_diagrams
 
     for url, filename in PAGES.items():
         app.router.add_get(url, page_handler(filename))

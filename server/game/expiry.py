@@ -18,10 +18,10 @@ import time
 from collections.abc import Callable
 from contextlib import AbstractAsyncContextManager
 
-from server.background import running
-from server.channels import Publisher
+from server.game.background import running
+from server.game.publisher import Publisher
+from server.protocol.ids import table_channel
 from server.storage import Storage
-from server.tables import channel_of
 
 log = logging.getLogger(__name__)
 
@@ -37,7 +37,7 @@ async def sweep(storage: Storage, publisher: Publisher, now: float) -> list[str]
     while True:
         ids = await storage.expire_tables(now, BATCH)
         for table_id in ids:
-            await publisher.delete(channel_of(table_id))
+            await publisher.delete(table_channel(table_id))
         dropped += ids
         if len(ids) < BATCH:
             return dropped

@@ -1,6 +1,6 @@
 """A table as the server stores it (`TableRecord`), and the pure transitions of its life.
 
-Nothing here does I/O: the match owner (server/match.py) loads a record, applies one of these
+Nothing here does I/O: the match owner (server/game/actor.py) loads a record, applies one of these
 transitions and stores the result with a compare-and-set on `version` (server/storage). Seats
 and the referee's players coincide: seat 0 is the referee's player 0, and each rack's break
 goes to `breaker` by starting the rack with `turn = breaker` (alternating rack by rack).
@@ -13,9 +13,11 @@ import time
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from server import refereeing
-from server.api_models import (
-    BotName,
+from server.game import refereeing
+from server.game.refereeing import GameName, PlayerInput, State
+from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.ids import PRESENCE_TIMEOUT, BotName, table_channel
+from server.protocol.models import (
     Constraints,
     InputKind,
     Mode,
@@ -28,11 +30,7 @@ from server.api_models import (
     TableSummary,
     TableView,
 )
-from server.errors import ErrorCode, ServiceError
-from server.refereeing import GameName, PlayerInput, State
 
-#: A seated player without a heartbeat for this long is shown disconnected (s).
-PRESENCE_TIMEOUT = 10.0
 #: How long a disconnected player may stay away before the opponent may claim the win (s).
 GRACE = 60.0
 #: How long the live store keeps a finished table (over or cancelled) after its last change
@@ -91,7 +89,7 @@ class TableRecord(BaseModel):
 
     @property
     def channel(self) -> str:
-        return channel_of(self.id)
+        return table_channel(self.id)
 
     @property
     def finished(self) -> bool:
@@ -107,10 +105,6 @@ class TableRecord(BaseModel):
     def listed(self) -> bool:
         """Shown in the lobby: public and not finished."""
         return not self.options.private and self.status in (Status.OPEN, Status.PLAYING)
-
-
-def channel_of(table_id: str) -> str:
-    return f"table-{table_id}"
 
 
 def bot_player(bot: BotName) -> PlayerInfo:
@@ -237,7 +231,7 @@ def rematch_table(record: TableRecord, seed: int) -> TableRecord:
 def bump(record: TableRecord, **changes: object) -> TableRecord:
     """The record with `changes` and the next version (every stored change goes through here).
 
-    Every new version restarts the shot clock of the seat then to act (server/clock.py).
+    Every new version restarts the shot clock of the seat then to act (server/game/clock.py).
     """
     update = {**changes, "version": record.version + 1, "updated": time.time()}
     after = record.model_copy(update=update)

@@ -31,8 +31,8 @@ from collections.abc import Callable
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
-from server import refereeing, replays
-from server.refereeing import GameRecord, PlayerInput, State
+from server.game import refereeing, replays
+from server.game.refereeing import GameRecord, PlayerInput, State
 
 T = TypeVar("T")
 
@@ -47,7 +47,9 @@ def default_workers() -> int:
 
 def _context() -> multiprocessing.context.BaseContext:
     context = multiprocessing.get_context("forkserver")
-    context.set_forkserver_preload(["server.refereeing", "server.replays", "server.workers"])
+    context.set_forkserver_preload(
+        ["server.game.refereeing", "server.game.replays", "server.game.workers"]
+    )
     return context
 
 

@@ -13,22 +13,14 @@ from typing import Annotated, Literal
 from annotated_types import Interval
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints
 
-from server.errors import ErrorCode
-from server.refereeing import Decision, GameName, GameRecord, Option, PlayerInput, Region, State
-from server.trajectories import Trajectory
-
-#: The format version of channel messages; bumped when a client must change to read them.
-PROTOCOL = 1
-#: Seconds between the heartbeats a seated player's client sends (docs/protocol.md, Match
-#: life): a player is shown disconnected after tables.PRESENCE_TIMEOUT (10 s) without one, so
-#: two may be lost before that happens.
-HEARTBEAT_INTERVAL = 3.0
-#: Seconds between the `GET /api/quick` polls of a client waiting for a quick match: a request
-#: lapses `QUICK_LAPSE` seconds after its last poll, so a client that died is never paired.
-QUICK_POLL = 5.0
-QUICK_LAPSE = 3 * QUICK_POLL
-#: The shot clock of a quick match (s): no seat of a pairing may hold the match forever.
-QUICK_SHOT_CLOCK = 60
+from rules.inputs import Option, PlayerInput
+from rules.racks import Game as GameName
+from rules.record import GameRecord
+from rules.state import Decision, Region, State
+from server.protocol import ids
+from server.protocol.errors import ErrorCode
+from server.protocol.ids import PROTOCOL, BotName, QuickText
+from server.protocol.trajectories import Trajectory
 
 
 def json_int(low: int, high: int | None = None) -> object:
@@ -37,23 +29,18 @@ def json_int(low: int, high: int | None = None) -> object:
 
 
 #: Seconds per shot: 0 for no clock, else 10 to 300.
-ShotClock = json_int(0, 0) | json_int(10, 300)
-RaceTo = json_int(1, 15)
+ShotClock = json_int(0, 0) | json_int(ids.SHOT_CLOCK_MIN, ids.SHOT_CLOCK_MAX)
+RaceTo = json_int(1, ids.RACE_TO_MAX)
 
 _REQUEST = ConfigDict(frozen=True, extra="forbid")
 _ANSWER = ConfigDict(frozen=True)
 
-#: Letters, digits, `_`, `-`, `.` and inner spaces: nothing a page could take for markup.
-NAME_PATTERN = r"^[A-Za-z0-9_.\-](?:[A-Za-z0-9_. \-]*[A-Za-z0-9_.\-])?$"
-DisplayName = Annotated[str, StringConstraints(min_length=1, max_length=24, pattern=NAME_PATTERN)]
-#: A client's shot id: no `:`, so that the server's own inputs (server/commands.py,
-#: `clock:<version>` and `bot:<version>`) live where no client can write.
-ShotId = Annotated[str, StringConstraints(pattern=r"^[A-Za-z0-9_-]{8,64}$")]
-#: The id of a played input: a client's shot id or one of the server's own.
-InputId = Annotated[
-    str, StringConstraints(pattern=r"^(?:[A-Za-z0-9_-]{8,64}|(?:clock|bot):[0-9]{8,})$")
+DisplayName = Annotated[
+    str, StringConstraints(min_length=1, max_length=ids.NAME_MAX, pattern=ids.NAME_PATTERN)
 ]
-TableId = Annotated[str, StringConstraints(pattern=r"^[0-9a-f]{20}$")]
+ShotId = Annotated[str, StringConstraints(pattern=ids.SHOT_ID_PATTERN)]
+InputId = Annotated[str, StringConstraints(pattern=ids.INPUT_ID_PATTERN)]
+TableId = Annotated[str, StringConstraints(pattern=ids.TABLE_ID_PATTERN)]
 Seat = Annotated[int, Field(ge=0, le=1)]
 
 
@@ -73,31 +60,6 @@ class Status(StrEnum):
 class InputKind(StrEnum):
     SHOT = "shot"
     CHOICE = "choice"
-
-
-class BotName(StrEnum):
-    """The server's opponents: the rules' simple shot picker, or the searching bot at a level
-    from 1 (a beginner) to 5 (the strongest), as `rules.bot.chooser` names them."""
-
-    PICKER = "picker"
-    LEVEL_1 = "bot:1"
-    LEVEL_2 = "bot:2"
-    LEVEL_3 = "bot:3"
-    LEVEL_4 = "bot:4"
-    LEVEL_5 = "bot:5"
-
-
-class QuickText(StrEnum):
-    """The fixed set of quick messages: nothing else can be said, so nothing to moderate."""
-
-    GOOD_SHOT = "good_shot"
-    GOOD_GAME = "good_game"
-    NICE_TRY = "nice_try"
-    WELL_PLAYED = "well_played"
-    THANKS = "thanks"
-    OOPS = "oops"
-    HELLO = "hello"
-    BYE = "bye"
 
 
 # ----- errors ---------------------------------------------------------------------------------
@@ -134,7 +96,7 @@ class PlayerToken(BaseModel):
 
 
 class RatingView(BaseModel):
-    """A Glicko-2 rating (server/ratings.py), provisional while its deviation exceeds 110."""
+    """A Glicko-2 rating (server/game/ratings.py), provisional while its deviation exceeds 110."""
 
     model_config = _ANSWER
 
@@ -317,7 +279,7 @@ class QuickMessageRequest(BaseModel):
 
 
 # ----- replays and the leaderboard ------------------------------------------------------------
-ReplayId = Annotated[str, StringConstraints(pattern=r"^[0-9a-f]{24}$")]
+ReplayId = Annotated[str, StringConstraints(pattern=ids.REPLAY_ID_PATTERN)]
 
 
 class Source(StrEnum):

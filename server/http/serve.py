@@ -9,7 +9,7 @@ each other's tokens, so they share the key through the environment variable.
 code, cheaper socket writes and callbacks (see the relay benchmark). uvloop is not a dependency:
 `pip install uvloop` first; asking for it without it installed is an error, not a fallback.
 
-The process's garbage collector follows `server.collector` (its docstring says why).
+The process's garbage collector follows `server.http.collector` (its docstring says why).
 """
 
 from __future__ import annotations
@@ -34,8 +34,8 @@ def new_event_loop(use_uvloop: bool) -> asyncio.AbstractEventLoop:
 def _serve(args: argparse.Namespace) -> int:
     from aiohttp import web
 
-    from server import collector
-    from server.app import AppSettings, create_app, relay_settings
+    from server.http import collector
+    from server.http.app import AppSettings, create_app, relay_settings
     from server.storage.sqlite import token_key
 
     secret = os.environ.get("BILLIARDS_RELAY_SECRET")
@@ -78,7 +78,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         type=float,
         metavar="SECONDS",
         help="how long a disconnected player may stay away before the opponent may claim the "
-        "win (default: server.tables.GRACE)",
+        "win (default: server.game.tables.GRACE)",
     )
     parser.add_argument(
         "--trusted-proxy",

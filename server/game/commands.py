@@ -1,30 +1,21 @@
-"""Every command a table's actor takes (server/match.py), as frozen typed values.
+"""Every command a table's actor takes (server/game/actor.py), as frozen typed values.
 
-A command names who sends it and what it asks; the HTTP handlers (server/api.py) only parse a
+A command names who sends it and what it asks; the HTTP handlers (server/http/api.py) only parse a
 request into one of these and hand it to the table's actor, and the server makes its own
 (`ClockExpiry`, `BotMove`) the same way. The actor decides and answers; nothing here
 does I/O or knows HTTP.
 
 Server-made inputs are stored and published under input ids no client can send: a client's
-shot id matches `CLIENT_SHOT_ID` (letters, digits, `_` and `-`), the server's own carry a `:`
-(`clock:<version>`, `bot:<version>`), so a client can never pre-empt one by reusing its id.
+shot id matches `ids.SHOT_ID_PATTERN` (letters, digits, `_` and `-`), the server's own carry a
+`:` (`clock:<version>`, `bot:<version>`), so a client can never pre-empt one by reusing its id.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from server.api_models import Intent, PlayerInfo, QuickText
-
-#: The input id of the stroke the shot clock plays for the seat to act at `version`.
-CLOCK_PREFIX = "clock:"
-#: The input id of a bot's move at `version`.
-BOT_PREFIX = "bot:"
-
-
-def server_input_id(prefix: str, version: int) -> str:
-    """The id of an input the server makes at a table version (never a client's shot id)."""
-    return f"{prefix}{version:08d}"
+from server.protocol.ids import QuickText
+from server.protocol.models import Intent, PlayerInfo
 
 
 @dataclass(frozen=True)

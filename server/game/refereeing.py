@@ -25,7 +25,7 @@ from rules.referee import allowed
 from rules.referee import referee as referee_of
 from rules.spots import in_region, is_free
 from rules.state import Decision, Region, State
-from server.trajectories import Trajectory, wire_trajectory
+from server.protocol.trajectories import Trajectory, wire_trajectory
 
 #: The seed of the server's bots: their noise draws are keyed by it and by the state.
 BOT_SEED = 0
@@ -156,7 +156,7 @@ def referee(state: State, action: PlayerInput) -> Refereed:
 
 
 def timeout_input(state: State) -> PlayerInput:
-    """What the server plays for a player whose shot clock ran out (see server/clock.py).
+    """What the server plays for a player whose shot clock ran out (see server/game/clock.py).
 
     A pending choice takes the first option offered; otherwise a dead-slow stroke of the cue
     ball straight away from the nearest ball (placed first, on the first free point of a grid

@@ -23,16 +23,16 @@ import random
 import time
 import uuid
 from collections.abc import AsyncIterator, Awaitable, Callable
-from contextlib import AbstractAsyncContextManager, suppress
+from contextlib import AbstractAsyncContextManager, asynccontextmanager, suppress
 from dataclasses import dataclass
 from typing import Annotated, Any, TypeVar
 
 import aiohttp
 from pydantic import BaseModel, Field, TypeAdapter, ValidationError
 
-from server.api_models import (
-    HEARTBEAT_INTERVAL,
-    QUICK_POLL,
+from server.protocol.feed import CLOSE_GOING_AWAY, DELETED_REASON, GAP_TYPE, META_PROTOCOL
+from server.protocol.ids import HEARTBEAT_INTERVAL, QUICK_POLL, player_channel
+from server.protocol.models import (
     ChatMessage,
     IntentAccepted,
     IntentDuplicate,
@@ -46,11 +46,7 @@ from server.api_models import (
     TableMessage,
     TableView,
 )
-from server.background import running
-from server.relay.frames import GAP_TYPE
-from server.relay.websocket import CLOSE_GOING_AWAY, DELETED_REASON
 
-META = "ws+meta.nchan"
 M = TypeVar("M", bound=BaseModel)
 T = TypeVar("T")
 _ACK = TypeAdapter(IntentAccepted | IntentDuplicate)
@@ -340,8 +336,9 @@ class GameClient:
     def heartbeats(self, table_id: str) -> AbstractAsyncContextManager[None]:
         """Send heartbeats every HEARTBEAT_INTERVAL while the context is open. They keep the
         player shown present and make the server look at the table, which is what plays an
-        input that a replica accepted and then died with (match.LEASE). Each answer says
-        until when an absent player is waited for: past that, this player claims the win (the
+        input that a replica accepted and then died with (server/game/actor.py, LEASE). Each
+        answer says until when an absent player is waited for: past that, this player claims
+        the win (the
         server decides by its own clock; a claim it refuses waits for the next heartbeat)."""
 
         async def beat() -> None:
@@ -353,7 +350,7 @@ class GameClient:
                         await self.claim(table_id)
                 await asyncio.sleep(HEARTBEAT_INTERVAL)
 
-        return running(beat)
+        return _running(beat)
 
     async def wait_paired(self) -> str:
         """The table id of a quick match, once the server has paired this player: from the
@@ -375,7 +372,7 @@ class GameClient:
     async def _paired_message(self) -> str:
         """The table of the player channel's first `paired` message."""
         assert self.player is not None
-        async for data in self.messages(f"player-{self.player.id}"):
+        async for data in self.messages(player_channel(self.player.id)):
             message = {} if data is None else json.loads(data)
             if message.get("kind") == "paired":
                 return message["table"]
@@ -424,7 +421,7 @@ class GameClient:
         try:
             async with asyncio.timeout(HANDSHAKE_TIMEOUT):
                 ws = await self.session.ws_connect(
-                    url, params=params, protocols=(META,), heartbeat=FEED_PING
+                    url, params=params, protocols=(META_PROTOCOL,), heartbeat=FEED_PING
                 )
         except aiohttp.WSServerHandshakeError as error:
             self.reached = True
@@ -471,6 +468,18 @@ class GameClient:
         # this client has not seen (it missed a change, as after a server restart).
         fresh = await self.table(table_id)
         return fresh if fresh.version > version else None
+
+
+@asynccontextmanager
+async def _running(loop: Callable[[], Awaitable[None]]) -> AsyncIterator[None]:
+    """Run `loop()` as a task while the context is open."""
+    task = asyncio.create_task(loop())
+    try:
+        yield
+    finally:
+        task.cancel()
+        with suppress(asyncio.CancelledError):
+            await task
 
 
 def _meta_frame(raw: str | bytes) -> tuple[str | None, bytes | None]:

@@ -1,6 +1,6 @@
 """The aiohttp application of the billiards server: `create_app(settings)`.
 
-It mounts the relay (`server.relay`) and the game service's API (`server.api`). Both follow
+It mounts the relay (`server.relay`) and the game service's API (`server.http.api`). Both follow
 the settings: in memory and SQLite by default (one process), Redis when a Redis URL is given
 (several replicas).
 """
@@ -12,14 +12,10 @@ from collections.abc import AsyncIterator
 from aiohttp import web
 from pydantic import BaseModel, ConfigDict, Field
 
-from server.api import mount_api
-from server.relay.backend import Backend, BackendConfig
-from server.relay.memory import MemoryBackend
-from server.relay.relay import Relay
-from server.relay.routes import mount_relay
-from server.relay.settings import RelaySettings
-from server.tables import GRACE
-from server.web import mount_web
+from server.game.tables import GRACE
+from server.http.api import mount_api
+from server.http.pages import mount_web
+from server.relay import Backend, BackendConfig, MemoryBackend, Relay, RelaySettings, mount_relay
 
 #: The buffer of every channel the game service uses: the relay's 100 messages, and at most
 #: 4 MiB of their data. A table channel's outcomes carry trajectories (an eight-ball break's is

@@ -1,0 +1,135 @@
+"""Every identifier of the game's protocol, defined once: game names, id and name formats,
+channel names, the quick-message set, timings and limits a client must know.
+
+The wire models (server/protocol/models.py), the HTTP routes (server/http/api.py), the game
+service and the command-line client read them from here, and the browser client from
+`web/src/net/protocol.js`, which `server.protocol.javascript` writes from this module (a test
+fails when the two differ). Nothing else writes these literals.
+"""
+
+from __future__ import annotations
+
+import secrets
+from enum import StrEnum
+
+from rules.racks import Game
+
+#: The format version of channel messages; bumped when a client must change to read them.
+PROTOCOL = 1
+
+# ----- games ----------------------------------------------------------------------------------
+#: The games a table plays, as the API names them.
+GAMES: tuple[str, ...] = tuple(game.value for game in Game)
+
+
+class BotName(StrEnum):
+    """The server's opponents: the rules' simple shot picker, or the searching bot at a level
+    from 1 (a beginner) to 5 (the strongest), as `rules.bot.chooser` names them."""
+
+    PICKER = "picker"
+    LEVEL_1 = "bot:1"
+    LEVEL_2 = "bot:2"
+    LEVEL_3 = "bot:3"
+    LEVEL_4 = "bot:4"
+    LEVEL_5 = "bot:5"
+
+
+class QuickText(StrEnum):
+    """The fixed set of quick messages: nothing else can be said, so nothing to moderate."""
+
+    GOOD_SHOT = "good_shot"
+    GOOD_GAME = "good_game"
+    NICE_TRY = "nice_try"
+    WELL_PLAYED = "well_played"
+    THANKS = "thanks"
+    OOPS = "oops"
+    HELLO = "hello"
+    BYE = "bye"
+
+
+# ----- ids and names --------------------------------------------------------------------------
+def _whole(core: str) -> str:
+    """A pattern matching `core` whole (JSON Schema's and pydantic's `$` is the very end)."""
+    return f"^{core}$"
+
+
+#: A display name: letters, digits, `_`, `-`, `.` and inner spaces (nothing a page could take
+#: for markup), at most `NAME_MAX` characters.
+NAME_CORE = r"[A-Za-z0-9_.\-](?:[A-Za-z0-9_. \-]*[A-Za-z0-9_.\-])?"
+NAME_PATTERN = _whole(NAME_CORE)
+NAME_MAX = 24
+#: The same in words, for the people whose name is refused.
+NAME_RULE = (
+    f"1 to {NAME_MAX} letters, digits, spaces, '_', '-' or '.', not starting or ending with a space"
+)
+
+TABLE_ID_CORE = r"[0-9a-f]{20}"
+TABLE_ID_PATTERN = _whole(TABLE_ID_CORE)
+REPLAY_ID_CORE = r"[0-9a-f]{24}"
+REPLAY_ID_PATTERN = _whole(REPLAY_ID_CORE)
+PLAYER_ID_CORE = r"p_[0-9a-f]{16}"
+#: A client's shot id. It holds no `:`, so that the server's own inputs (`CLOCK_PREFIX`,
+#: `BOT_PREFIX`) live where no client can write.
+SHOT_ID_CORE = r"[A-Za-z0-9_-]{8,64}"
+SHOT_ID_PATTERN = _whole(SHOT_ID_CORE)
+#: The input id of the stroke the shot clock plays for the seat to act.
+CLOCK_PREFIX = "clock:"
+#: The input id of a bot's move.
+BOT_PREFIX = "bot:"
+#: The id of a played input: a client's shot id or one of the server's own.
+INPUT_ID_PATTERN = _whole(rf"(?:{SHOT_ID_CORE}|(?:clock|bot):[0-9]{{8,}})")
+
+
+def new_table_id() -> str:
+    """80 random bits: a private table's id is its invitation and cannot be guessed."""
+    return secrets.token_hex(10)
+
+
+def new_player_id() -> str:
+    return f"p_{secrets.token_hex(8)}"
+
+
+def new_replay_id() -> str:
+    return secrets.token_hex(12)
+
+
+def server_input_id(prefix: str, version: int) -> str:
+    """The id of an input the server makes at a table version (never a client's shot id)."""
+    return f"{prefix}{version:08d}"
+
+
+# ----- channels -------------------------------------------------------------------------------
+#: The lobby's snapshots.
+LOBBY = "public-lobby"
+TABLE_CHANNEL_PREFIX = "table-"
+PLAYER_CHANNEL_PREFIX = "player-"
+
+
+def table_channel(table_id: str) -> str:
+    """A table's channel: its outcomes, views, presence and quick messages."""
+    return f"{TABLE_CHANNEL_PREFIX}{table_id}"
+
+
+def player_channel(player_id: str) -> str:
+    """A player's own channel: its quick-match pairing."""
+    return f"{PLAYER_CHANNEL_PREFIX}{player_id}"
+
+
+# ----- timings and limits ---------------------------------------------------------------------
+#: Seconds between the heartbeats a seated player's client sends: a player is shown
+#: disconnected after `PRESENCE_TIMEOUT` without one, so two may be lost before that happens.
+HEARTBEAT_INTERVAL = 3.0
+PRESENCE_TIMEOUT = 10.0
+#: Seconds between the `GET /api/quick` polls of a client waiting for a quick match: a request
+#: lapses `QUICK_LAPSE` seconds after its last poll, so a client that died is never paired.
+QUICK_POLL = 5.0
+QUICK_LAPSE = 3 * QUICK_POLL
+#: The shot clock of a quick match (s): no seat of a pairing may hold the match forever.
+QUICK_SHOT_CLOCK = 60
+#: Seconds per shot a table may set (0: no clock).
+SHOT_CLOCK_MIN, SHOT_CLOCK_MAX = 10, 300
+RACE_TO_MAX = 15
+#: Largest request body accepted (bytes): an intent is a few hundred.
+MAX_BODY = 16 * 1024
+#: Largest claim body (bytes): a long game's record.
+MAX_RECORD_BODY = 1024 * 1024

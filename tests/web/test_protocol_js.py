@@ -1,0 +1,37 @@
+"""web/src/net/protocol.js is what server/protocol/ids.py says, to the letter and in behaviour."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+
+from server.protocol import ids
+from server.protocol.javascript import TARGET, module_text
+
+SAMPLES = ["Ada", " Ada", "Ada ", "A.da-1_", "<b>", "a" * 24, "clock:00000001", "shot-0001", ""]
+
+
+def test_the_module_in_the_tree_is_the_generated_one() -> None:
+    assert TARGET.read_text() == module_text(), "run: python -m server.protocol.javascript"
+
+
+def test_the_browser_reads_every_identifier_as_python_does() -> None:
+    script = (
+        f"import('{TARGET.as_uri()}').then((m) => console.log(JSON.stringify({{"
+        "games: m.GAMES, lobby: m.LOBBY, table: m.tableChannel('t1'),"
+        " player: m.playerChannel('p1'),"
+        f" names: {json.dumps(SAMPLES)}.map((s) => m.NAME_PATTERN.test(s)),"
+        f" shots: {json.dumps(SAMPLES)}.map((s) => m.SHOT_ID_PATTERN.test(s)),"
+        "})))"
+    )
+    seen = json.loads(subprocess.run(["node", "-e", script], capture_output=True, check=True,
+                                     text=True).stdout)  # fmt: skip
+    assert seen == {
+        "games": list(ids.GAMES),
+        "lobby": ids.LOBBY,
+        "table": ids.table_channel("t1"),
+        "player": ids.player_channel("p1"),
+        "names": [re.fullmatch(ids.NAME_PATTERN.strip("^$"), s) is not None for s in SAMPLES],
+        "shots": [re.fullmatch(ids.SHOT_ID_PATTERN.strip("^$"), s) is not None for s in SAMPLES],
+    }
