@@ -35,6 +35,7 @@ from server.storage import (
     waiting,
     without_motion,
 )
+from server.storage.records import dump, load
 
 P = "game:"
 
@@ -204,11 +205,11 @@ class RedisStorage(Storage):
 
     # ----- players ----------------------------------------------------------------------
     async def add_player(self, player: PlayerInfo) -> None:
-        await self._redis.set(f"{P}p:{player.id}", player.model_dump_json())
+        await self._redis.set(f"{P}p:{player.id}", dump(player))
 
     async def get_player(self, player_id: str) -> PlayerInfo | None:
         doc = await self._redis.get(f"{P}p:{player_id}")
-        return PlayerInfo.model_validate_json(doc) if doc else None
+        return load(PlayerInfo, doc) if doc else None
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
         ttl_ms = max(1, int((until - now) * 1000))
@@ -232,7 +233,7 @@ class RedisStorage(Storage):
 
     async def create_table(self, record: TableRecord) -> None:
         keys = [f"{P}t:{record.id}", f"{P}listed", f"{P}deadlines", f"{P}expiry"]
-        args = [record.version, record.model_dump_json(), record.id, int(record.listed)]
+        args = [record.version, dump(record), record.id, int(record.listed)]
         deadline = "" if record.deadline is None else repr(record.deadline)
         args += [record.created, deadline, repr(record.expires)]
         if not await self._create(keys=keys, args=args):
@@ -240,16 +241,16 @@ class RedisStorage(Storage):
 
     async def get_table(self, table_id: str) -> TableRecord | None:
         doc = await self._redis.hget(f"{P}t:{table_id}", "doc")
-        return TableRecord.model_validate_json(doc) if doc else None
+        return load(TableRecord, doc) if doc else None
 
     async def accept(self, record: TableRecord) -> Accepted:
         entry = record.pending
         if entry is None:
             raise ValueError("accept needs a record with its pending input")
-        args = [record.version, entry.shot_id, record.model_dump_json(), entry.model_dump_json()]
+        args = [record.version, entry.shot_id, dump(record), dump(entry)]
         answer = await self._accept(keys=self._keys(record.id)[:2], args=args)
         if answer[0] == 2:
-            return Accepted(AcceptResult.DUPLICATE, InputEntry.model_validate_json(answer[1]))
+            return Accepted(AcceptResult.DUPLICATE, load(InputEntry, answer[1]))
         return Accepted(AcceptResult.ACCEPTED if answer[0] == 0 else AcceptResult.CONFLICT)
 
     async def _swap(self, record: TableRecord, pending: str, entry: InputEntry | None) -> bool:
@@ -257,12 +258,12 @@ class RedisStorage(Storage):
             record.version - 1,
             pending,
             record.version,
-            record.model_dump_json(),
+            dump(record),
             record.id,
             int(record.listed),
             record.created,
             entry.shot_id if entry else "",
-            entry.model_dump_json() if entry else "",
+            dump(entry) if entry else "",
             "" if record.deadline is None else repr(record.deadline),
             entry.rack if entry else "",
             repr(record.expires),
@@ -277,7 +278,7 @@ class RedisStorage(Storage):
 
     async def find_input(self, table_id: str, shot_id: str) -> InputEntry | None:
         doc = await self._redis.hget(f"{P}i:{table_id}", shot_id)
-        return InputEntry.model_validate_json(doc) if doc else None
+        return load(InputEntry, doc) if doc else None
 
     async def _logged(self, table_id: str, start: int, stop: int) -> list[InputEntry]:
         """The played inputs from `start` to `stop` (inclusive, -1: the last) of the log."""
@@ -285,7 +286,7 @@ class RedisStorage(Storage):
         if not shot_ids:
             return []
         docs = await self._redis.hmget(f"{P}i:{table_id}", shot_ids)
-        return [InputEntry.model_validate_json(doc) for doc in docs]
+        return [load(InputEntry, doc) for doc in docs]
 
     async def inputs(self, table_id: str) -> list[InputEntry]:
         return await self._logged(table_id, 0, -1)
@@ -321,31 +322,31 @@ class RedisStorage(Storage):
             for table_id in ids:
                 pipe.hget(f"{P}t:{table_id}", "doc")
             docs = await pipe.execute()
-        return [TableRecord.model_validate_json(doc) for doc in docs if doc]
+        return [load(TableRecord, doc) for doc in docs if doc]
 
     # ----- ratings ----------------------------------------------------------------------
     async def ratings(self, player_id: str) -> dict[str, Rating]:
         docs = await self._redis.hgetall(f"{P}r:{player_id}")
-        return {game: Rating.model_validate_json(doc) for game, doc in docs.items()}
+        return {game: load(Rating, doc) for game, doc in docs.items()}
 
     async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> RateResult:
         keys = [f"{P}rated", *(f"{P}r:{player}" for player in ratings)]
-        args = [table_id, game, *(rating.model_dump_json() for rating in ratings.values())]
+        args = [table_id, game, *(dump(rating) for rating in ratings.values())]
         args += [rating.games for rating in ratings.values()]
         answer = await self._rate(keys=keys, args=args)
         return (RateResult.RATED, RateResult.ALREADY, RateResult.CONFLICT)[answer]
 
     # ----- replays and the leaderboard ---------------------------------------------------
     async def add_replay(self, replay: ReplayView) -> None:
-        await self._redis.set(f"{P}rp:{replay.id}", replay.model_dump_json())
+        await self._redis.set(f"{P}rp:{replay.id}", dump(replay))
 
     async def get_replay(self, replay_id: str) -> ReplayView | None:
         doc = await self._redis.get(f"{P}rp:{replay_id}")
-        return ReplayView.model_validate_json(doc) if doc else None
+        return load(ReplayView, doc) if doc else None
 
     async def add_break(self, entry: BreakEntry, key: str) -> bool:
         keys = [f"{P}bk", f"{P}be", f"{P}lb:{entry.game}", f"{P}lbn:{entry.game}"]
-        args = [key, entry.model_dump_json(), entry.score, entry.name]
+        args = [key, dump(entry), entry.score, entry.name]
         return bool(await self._add_break(keys=keys, args=args))
 
     async def top_breaks(self, game: str, limit: int) -> list[BreakEntry]:
@@ -353,12 +354,12 @@ class RedisStorage(Storage):
         if not ranked:
             return []
         docs = await self._redis.hmget(f"{P}be", ranked)
-        return [BreakEntry.model_validate_json(doc) for doc in docs if doc]
+        return [load(BreakEntry, doc) for doc in docs if doc]
 
     async def best_break(self, game: str, name: str) -> BreakEntry | None:
         key = await self._redis.hget(f"{P}lbn:{game}", name)
         doc = await self._redis.hget(f"{P}be", key) if key else None
-        return BreakEntry.model_validate_json(doc) if doc else None
+        return load(BreakEntry, doc) if doc else None
 
     # ----- quick match ------------------------------------------------------------------
     async def pair(

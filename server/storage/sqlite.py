@@ -44,6 +44,7 @@ from server.storage import (
     paired,
     waiting,
 )
+from server.storage.records import dump, load
 
 #: Tables whose last stored record is kept in memory (least recently used dropped first).
 CACHED_TABLES = 1024
@@ -108,9 +109,9 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
     if "outcome" not in columns:
         await db.execute("ALTER TABLE tables ADD COLUMN outcome TEXT")
         for table_id, doc in await db.execute_fetchall("SELECT id, doc FROM tables"):
-            record = TableRecord.model_validate_json(doc)
-            outcome = record.last_outcome and record.last_outcome.model_dump_json()
-            moved = (record.model_dump_json(exclude=_DOC), outcome, table_id)
+            record = load(TableRecord, doc)
+            outcome = record.last_outcome and dump(record.last_outcome)
+            moved = (dump(record, exclude=_DOC), outcome, table_id)
             await db.execute("UPDATE tables SET doc = ?, outcome = ? WHERE id = ?", moved)
     async with db.execute("PRAGMA table_info(quick)") as cursor:
         if "alive" not in {row[1] for row in await cursor.fetchall()}:
@@ -175,12 +176,12 @@ class SqliteStorage(Storage):
 
     # ----- players ----------------------------------------------------------------------
     async def add_player(self, player: PlayerInfo) -> None:
-        doc = player.model_dump_json()
+        doc = dump(player)
         await self._alone("INSERT OR REPLACE INTO players VALUES (?, ?)", player.id, doc)
 
     async def get_player(self, player_id: str) -> PlayerInfo | None:
         row = await self._one("SELECT doc FROM players WHERE id = ?", player_id)
-        return PlayerInfo.model_validate_json(row[0]) if row else None
+        return load(PlayerInfo, row[0]) if row else None
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
         changed = await self._alone(
@@ -200,7 +201,7 @@ class SqliteStorage(Storage):
 
     # ----- tables -----------------------------------------------------------------------
     async def create_table(self, record: TableRecord) -> None:
-        outcome = record.last_outcome and record.last_outcome.model_dump_json()
+        outcome = record.last_outcome and dump(record.last_outcome)
         try:
             await self._alone(
                 "INSERT INTO tables (id, version, pending, listed, created, deadline, doc, "
@@ -210,7 +211,7 @@ class SqliteStorage(Storage):
                 int(record.listed),
                 record.created,
                 record.deadline,
-                record.model_dump_json(exclude=_DOC),
+                dump(record, exclude=_DOC),
                 record.expires,
                 outcome,
             )
@@ -224,9 +225,9 @@ class SqliteStorage(Storage):
             row = await self._one("SELECT doc, outcome FROM tables WHERE id = ?", table_id)
             if row is None:
                 return None
-            record = TableRecord.model_validate_json(row[0])
+            record = load(TableRecord, row[0])
             if row[1] is not None:
-                last = OutcomeMessage.model_validate_json(row[1])
+                last = load(OutcomeMessage, row[1])
                 record = record.model_copy(update={"last_outcome": last})
         self._remember(record)
         return record
@@ -252,7 +253,7 @@ class SqliteStorage(Storage):
             pending,
             int(record.listed),
             record.deadline,
-            record.model_dump_json(exclude=_DOC),
+            dump(record, exclude=_DOC),
             record.expires,
         ]
         stored = self._tables.get(record.id)
@@ -261,7 +262,7 @@ class SqliteStorage(Storage):
             args.append(played)
         elif stored is None or stored.last_outcome is not record.last_outcome:
             sets += ", outcome = ?"
-            args.append(record.last_outcome and record.last_outcome.model_dump_json())
+            args.append(record.last_outcome and dump(record.last_outcome))
         sql = f"UPDATE tables SET {sets} WHERE id = ? AND version = ? AND pending = ?"
         args += [record.id, *was]
         if new_shot is not None:
@@ -287,7 +288,7 @@ class SqliteStorage(Storage):
         return Accepted(AcceptResult.CONFLICT if seen is None else AcceptResult.DUPLICATE, seen)
 
     async def resolve(self, record: TableRecord, entry: InputEntry) -> bool:
-        doc = entry.model_dump_json()
+        doc = dump(entry)
         played = doc if entry.outcome is not None and entry.outcome is record.last_outcome else None
         async with self._transaction() as db:
             was = (record.version - 1, entry.shot_id)
@@ -312,7 +313,7 @@ class SqliteStorage(Storage):
             "SELECT doc FROM inputs WHERE table_id = ? AND shot_id = ?", table_id, shot_id
         )
         if row is not None:
-            return InputEntry.model_validate_json(row[0])
+            return load(InputEntry, row[0])
         record = await self.get_table(table_id)
         pending = None if record is None else record.pending
         return pending if pending is not None and pending.shot_id == shot_id else None
@@ -321,7 +322,7 @@ class SqliteStorage(Storage):
         rows = await self._rows(
             "SELECT doc FROM inputs WHERE table_id = ? AND seq IS NOT NULL ORDER BY seq", table_id
         )
-        return [InputEntry.model_validate_json(row[0]) for row in rows]
+        return [load(InputEntry, row[0]) for row in rows]
 
     async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
         rows = await self._rows(  # (SQLite's JSON functions copy numbers as written)
@@ -331,7 +332,7 @@ class SqliteStorage(Storage):
             table_id,
             rack,
         )
-        return [InputEntry.model_validate_json(row[0]) for row in rows]
+        return [load(InputEntry, row[0]) for row in rows]
 
     async def expire_tables(self, now: float, limit: int) -> list[str]:
         async with self._transaction() as db:
@@ -373,7 +374,7 @@ class SqliteStorage(Storage):
     # ----- ratings ----------------------------------------------------------------------
     async def ratings(self, player_id: str) -> dict[str, Rating]:
         rows = await self._rows("SELECT game, doc FROM ratings WHERE player = ?", player_id)
-        return {game: Rating.model_validate_json(doc) for game, doc in rows}
+        return {game: load(Rating, doc) for game, doc in rows}
 
     async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> RateResult:
         async with self._transaction() as db:
@@ -385,24 +386,24 @@ class SqliteStorage(Storage):
                     "SELECT doc FROM ratings WHERE player = ? AND game = ?", (player, game)
                 ) as cursor:
                     row = await cursor.fetchone()
-                stored = Rating.model_validate_json(row[0]).games if row else 0
+                stored = load(Rating, row[0]).games if row else 0
                 if rating.games != stored + 1:
                     return RateResult.CONFLICT
             await db.execute("INSERT INTO rated VALUES (?)", (table_id,))
             for player, rating in ratings.items():
                 await db.execute(
                     "INSERT OR REPLACE INTO ratings VALUES (?, ?, ?)",
-                    (player, game, rating.model_dump_json()),
+                    (player, game, dump(rating)),
                 )
             return RateResult.RATED
 
     # ----- replays and the leaderboard ---------------------------------------------------
     async def add_replay(self, replay: ReplayView) -> None:
-        await self._alone("INSERT INTO replays VALUES (?, ?)", replay.id, replay.model_dump_json())
+        await self._alone("INSERT INTO replays VALUES (?, ?)", replay.id, dump(replay))
 
     async def get_replay(self, replay_id: str) -> ReplayView | None:
         row = await self._one("SELECT doc FROM replays WHERE id = ?", replay_id)
-        return ReplayView.model_validate_json(row[0]) if row else None
+        return load(ReplayView, row[0]) if row else None
 
     async def add_break(self, entry: BreakEntry, key: str) -> bool:
         try:
@@ -413,7 +414,7 @@ class SqliteStorage(Storage):
                 entry.score,
                 entry.name,
                 entry.at,
-                entry.model_dump_json(),
+                dump(entry),
             )
         except aiosqlite.IntegrityError:
             return False
@@ -423,7 +424,7 @@ class SqliteStorage(Storage):
         rows = await self._rows(
             "SELECT doc FROM breaks WHERE game = ? ORDER BY score DESC, at LIMIT ?", game, limit
         )
-        return [BreakEntry.model_validate_json(row[0]) for row in rows]
+        return [load(BreakEntry, row[0]) for row in rows]
 
     async def best_break(self, game: str, name: str) -> BreakEntry | None:
         row = await self._one(
@@ -431,7 +432,7 @@ class SqliteStorage(Storage):
             game,
             name,
         )
-        return BreakEntry.model_validate_json(row[0]) if row else None
+        return load(BreakEntry, row[0]) if row else None
 
     # ----- quick match ------------------------------------------------------------------
     async def pair(

@@ -175,4 +175,4 @@ async def server(start_server: StartServer) -> TestClient:
 
 
 def service_of(http: TestClient) -> Service:
-    return http.server.http.app[SERVICE_KEY]
+    return http.server.app[SERVICE_KEY]
