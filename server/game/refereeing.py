@@ -3,7 +3,7 @@
 The rest of the server imports the rules' types from here too (`State`, `Decision`,
 `PlayerInput`, ...), so a change of the rules' interface is met in this module alone.
 
-The match owner checks an input here on the event loop (cheap: no physics), and the worker
+The table actor checks an input here on the event loop (cheap: no physics), and the worker
 processes run `referee` and `bot_input` (the engine runs there, never on the event loop). What
 they return is picklable and already in wire form, so the event loop only stores and publishes.
 """

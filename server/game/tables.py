@@ -1,7 +1,7 @@
 """A table as the server stores it (`TableRecord`), and the pure transitions of its life.
 
-Nothing here does I/O: the match owner (server/game/actor.py) loads a record, applies one of these
-transitions and stores the result with a compare-and-set on `version` (server/storage). Seats
+Nothing here does I/O: the table actor (server/game/actor.py) loads a record, applies one of
+these transitions and stores the result with a compare-and-set on `version` (server/storage). Seats
 and the referee's players coincide: seat 0 is the referee's player 0, and each rack's break
 goes to `breaker` by starting the rack with `turn = breaker` (alternating rack by rack).
 """

@@ -1,7 +1,7 @@
 """The pool of worker processes that simulate and judge shots, off the event loop.
 
 A break takes 10-20 ms of physics; on the event loop that would stall the relay and every other
-table. The match owners hand each input to this pool and await the result.
+table. The table actors hand each input to this pool and await the result.
 
 Each worker is a process with one Unix socket to the server, which the event loop reads and
 writes itself (asyncio streams): a call is one pickled `(function, args)` frame out and one

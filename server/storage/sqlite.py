@@ -13,7 +13,7 @@ version = ? AND pending = ?` whose row count says whether it held; accepting an 
 one statement alone (the pending input lives in the table's document until it is played, and
 the `inputs` table holds the played ones with their outcomes). And since one process owns the
 file, the last committed record of the `CACHED_TABLES` most recently used tables is kept in
-memory (write-through, after each commit): a match owner reads its table before every job,
+memory (write-through, after each commit): a table actor reads its table before every job,
 and parsing the stored document, the last outcome's trajectory included, was the largest cost
 of a refereed shot.
 """
