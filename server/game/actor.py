@@ -46,7 +46,8 @@ these on both storage backends; tests/service/test_stalls.py holds each over rea
    on a table's channel carries the table version, so a client can tell it is behind.
 6. **Bounded work.** A bot searches at most once per table version in a process, started
    only by a change of the table or a seated player's heartbeat; a read (`GET`) starts no
-   work at all. Inputs are played at most once (storage invariants 3-4).
+   work at all. Inputs are played at most once (storage invariants 3-4). A bot whose search
+   fails still moves (the clock's input), so its opponent is never held by it.
 """
 
 from __future__ import annotations
@@ -69,6 +70,7 @@ from server.game.tables import GRACE, InputEntry, TableRecord
 from server.game.workers import WorkerPool
 from server.protocol import ids
 from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.ids import QuickText
 from server.protocol.models import (
     ChatMessage,
     IntentAccepted,
@@ -404,7 +406,7 @@ class TableActor:
         self.tell(commands.BotMove())  # after a restart: finish what was left, let a bot act
         return message
 
-    async def _quick_message(self, player: PlayerInfo, text: object) -> ChatMessage:
+    async def _quick_message(self, player: PlayerInfo, text: QuickText) -> ChatMessage:
         record = await self._context.storage.get_table(self.table_id)
         if record is None:
             raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
@@ -445,7 +447,11 @@ class TableActor:
         searched.move_to_end(record.id)
         while len(searched) > SEARCHES_KEPT:
             searched.popitem(last=False)
-        action = await self._context.pool.bot_input(record.state, tables.chooser_of(occupant))
+        try:
+            action = await self._context.pool.bot_input(record.state, tables.chooser_of(occupant))
+        except Exception:  # a bug in the bot must not stop the match: it plays the clock's input
+            log.exception("table %s: the bot's search failed", record.id)
+            action = refereeing.timeout_input(record.state)
         shot_id = ids.server_input_id(ids.BOT_PREFIX, record.version)
         await self._play_quietly(Move(occupant, record.version, shot_id, action))
 

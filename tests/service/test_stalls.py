@@ -217,3 +217,24 @@ async def test_concurrent_rematch_accepts_make_one_table(deploy: Deploy) -> None
     assert await _rematch_tables(service_of(replicas[0]).storage) == list(links)
     _, rematch = await bob.call("GET", f"/api/tables/{links.pop()}", expect=200)
     assert [seat["id"] for seat in rematch["seats"]] == [bob.info["id"], ada.info["id"]]
+
+
+async def test_a_bot_whose_search_fails_still_moves(deploy: Deploy) -> None:
+    """A bug in the bot's search must not hold its opponent: the bot plays the clock's input."""
+    replicas = await deploy()
+
+    async def broken(state: Any, bot: str) -> Any:
+        raise RuntimeError("the search fell over")
+
+    for replica in replicas:
+        service_of(replica).pool.bot_input = broken  # type: ignore[method-assign]
+    ada = await register(replicas[0], "Ada")
+    create = TableCreate(game="nineball", mode=Mode.BOT, bot=BotName.LEVEL_1)
+    record = tables.new_table("c" * 20, create, PlayerInfo(**ada.info), seed=5)
+    record = record.model_copy(update={"state": record.state.model_copy(update={"turn": 1})})
+    await service_of(replicas[0]).storage.create_table(record)
+    channel = await watch(replicas[0], record.channel)
+    await ada.call("POST", f"/api/tables/{record.id}/heartbeat", expect=200)
+    outcome = await channel.next_kind("outcome")
+    assert outcome["shot_id"] == f"bot:{record.version:08d}" and outcome["seat"] == 1
+    assert outcome["decision"]["fouls"] and outcome["next"]["seat"] == 0  # Ada's turn again
