@@ -174,6 +174,8 @@ class GameClient:
         self.reached = False
         #: Tables this client has created, joined or read (see `create`).
         self._known: set[str] = set()
+        #: The inbox and version of each table this client follows (see `follow`).
+        self._following: dict[str, tuple[asyncio.Queue[Any], list[int]]] = {}
 
     # ----- requests ---------------------------------------------------------------------------
     async def fetch(
@@ -325,7 +327,11 @@ class GameClient:
     async def heartbeat(self, table_id: str) -> PresenceMessage:
         """Tell the server this seated player is here (once: the next heartbeat is the retry)."""
         data = await self.fetch("POST", f"/api/tables/{table_id}/heartbeat", retry=False)
-        return PresenceMessage.model_validate_json(data)
+        presence = PresenceMessage.model_validate_json(data)
+        followed = self._following.get(table_id)
+        if followed is not None and presence.version > followed[1][0]:
+            followed[0].put_nowait(_RESYNC)  # the feed missed a change: the follower resyncs
+        return presence
 
     async def claim(self, table_id: str) -> TableView:
         """Claim the win from an opponent gone past the grace period (once: a resend of a
@@ -440,25 +446,45 @@ class GameClient:
         a `table` message or a resync). Ends once the table is finished (the change that
         finishes it included), or if its channel is deleted (first yielding the stored
         state, if it is newer: it says how the table ended, or that it did not)."""
-        version = view.version
         if finished(view):
             return
-        async for data in self.messages(view.channel):
-            change = await self._change(view.id, version, data)
-            if change is None:
-                continue
-            version = change.version
-            yield change
-            if finished(change):
-                return
+        inbox: asyncio.Queue[Any] = asyncio.Queue()
+        version = [view.version]  # shared with `heartbeat`, whose answers carry the version
+        self._following[view.id] = (inbox, version)
+        pump = asyncio.ensure_future(self._pump(view.channel, inbox))
+        try:
+            while (item := await inbox.get()) is not _END:
+                if isinstance(item, BaseException):
+                    raise item
+                change = await self._change(view.id, version[0], None if item is _RESYNC else item)
+                if change is None:
+                    continue
+                version[0] = change.version
+                yield change
+                if finished(change):
+                    return
+        finally:
+            pump.cancel()
+            self._following.pop(view.id, None)
         fresh = await self.table(view.id)
-        if fresh.version > version:
+        if fresh.version > version[0]:
             yield fresh
 
+    async def _pump(self, channel: str, inbox: asyncio.Queue[Any]) -> None:
+        """Hand the feed's messages to `follow`'s inbox (the gap notice as `_RESYNC`), then
+        `_END`, or the error that ended it."""
+        try:
+            async for data in self.messages(channel):
+                inbox.put_nowait(_RESYNC if data is None else data)
+            inbox.put_nowait(_END)
+        except Exception as error:  # the follower raises it: a feed that failed never hangs
+            inbox.put_nowait(error)
+
     async def _change(self, table_id: str, version: int, data: bytes | None) -> Change | None:
-        """What one feed message (None: the relay's gap notice) changes for a client at
-        `version`, by the resync rule: None for a repeat or a message that changes no
-        version; the message if it is the next version; the fetched state after a gap."""
+        """What one feed message (None: the relay's gap notice, or a heartbeat's answer that
+        carried a newer version) changes for a client at `version`, by the resync rule: None
+        for a repeat or a message that changes no version; the message if it is the next
+        version; the fetched state after a gap."""
         message = None if data is None else _feed_message(data)
         if data is not None and (message is None or message.version <= version):
             return None  # not a message of the table, or nothing newer than what was applied
@@ -480,6 +506,10 @@ async def _running(loop: Callable[[], Awaitable[None]]) -> AsyncIterator[None]:
         task.cancel()
         with suppress(asyncio.CancelledError):
             await task
+
+
+# What `follow`'s inbox holds besides a message's data: fetch the table; the feed ended.
+_RESYNC, _END = object(), object()
 
 
 def _meta_frame(raw: str | bytes) -> tuple[str | None, bytes | None]:

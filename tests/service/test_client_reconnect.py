@@ -159,6 +159,26 @@ async def test_a_feed_gives_up_once_the_server_stays_out_of_reach(
         await ada.table(view.id)
 
 
+async def test_a_change_the_feed_never_carried_is_found_by_the_heartbeats(
+    server: TestClient, http: aiohttp.ClientSession
+) -> None:
+    """A server that stored a change and died before publishing it: the feed says nothing,
+    but the next heartbeat's answer carries the table's version, and the follower resyncs
+    instead of waiting for ever."""
+    ada = GameClient(base_url(server), http)
+    await ada.register("Ada")
+    view = await ada.create("snooker", mode="practice")
+    feed = ada.follow(view)
+    waiting = asyncio.ensure_future(next_change(feed))
+    await asyncio.sleep(0.1)  # the follower is reading its feed
+    storage = service_of(server).storage
+    record = await storage.get_table(view.id)
+    assert await storage.update(record.model_copy(update={"version": record.version + 1}))
+    async with ada.heartbeats(view.id):
+        change = await waiting
+    assert isinstance(change, TableView) and change.version == view.version + 1
+
+
 # ----- requests -------------------------------------------------------------------------------
 @pytest.mark.parametrize("loss", [502, None], ids=["proxy-page", "no-answer"])
 async def test_an_intent_whose_answer_was_lost_is_resent_under_its_shot_id_and_played_once(
