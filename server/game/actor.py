@@ -62,6 +62,7 @@ from dataclasses import dataclass, field
 
 from server.game import commands, ratings, refereeing, tables
 from server.game.commands import ClientCommand, Command
+from server.game.history import MatchResult
 from server.game.leaderboard import Breaks
 from server.game.lobby import new_seed
 from server.game.publisher import Publisher
@@ -326,15 +327,32 @@ class TableActor:
         return replay.id
 
     async def _status_changed(self, before: TableRecord, after: TableRecord) -> None:
-        """Tell the lobby, and rate a match between two people that has just been decided."""
+        """Tell the lobby; rate a match that has just been decided (people and bots alike) and
+        record it in both players' histories."""
         if after.listed != before.listed or after.status is not before.status:
             self._context.on_listing_change()
         decided = before.status is Status.PLAYING and after.status is Status.OVER
-        if not decided or after.mode is not Mode.MATCH or after.winner is None:
+        if not decided or after.mode is Mode.PRACTICE or after.winner is None:
             return
-        people = [p for p in after.seats if p is not None and not tables.is_bot(p)]
-        if len(people) == 2:
-            await rate(self._context.storage, after, people)
+        first, second = after.seats
+        if first is None or second is None:
+            return
+        storage = self._context.storage
+        rated = await rate(storage, after, (first, second))
+        if rated is not None and after.ended is not None:
+            result = MatchResult(
+                table=after.id,
+                game=after.game,
+                at=after.updated,
+                seats=(first, second),
+                winner=after.winner,
+                ended=after.ended,
+                racks_won=after.racks_won,
+                before=rated[0],
+                after=rated[1],
+                replays=after.replays,
+            )
+            await storage.add_result(result)
 
     # ----- seats and the match --------------------------------------------------------------
     async def _change(self, change: Change, after_store: AfterStore | None = None) -> TableRecord:
@@ -463,19 +481,29 @@ class TableActor:
             log.error("table %s: server input %s refused: %s", self.table_id, move.shot_id, error)
 
 
-async def rate(storage: Storage, record: TableRecord, people: list[PlayerInfo]) -> None:
-    """Rate a decided match between two people: read both ratings, compute, store with the
-    storage's compare-and-set (invariant 9), and on a conflict (another match of one of them
-    was rated meanwhile, perhaps on another replica) read and compute again."""
+Ratings = tuple[Rating, Rating]
+
+
+async def rate(
+    storage: Storage, record: TableRecord, seats: tuple[PlayerInfo, PlayerInfo]
+) -> tuple[Ratings, Ratings] | None:
+    """Rate a decided match: read both ratings, compute, store with the storage's
+    compare-and-set (invariant 9), and on a conflict (another match of one of them was rated
+    meanwhile, perhaps on another replica) read and compute again. The seats' ratings before
+    and after, or None if the match had been rated already (by another replica)."""
     winner = record.winner
     assert winner is not None
     for _ in range(RATE_TRIES):
-        current = [(await storage.ratings(p.id)).get(record.game, Rating()) for p in people]
+        current = [(await storage.ratings(p.id)).get(record.game, Rating()) for p in seats]
         won, lost = ratings.after_match(current[winner], current[1 - winner])
-        new = {people[winner].id: won, people[1 - winner].id: lost}
-        if await storage.rate(record.id, record.game, new) is not RateResult.CONFLICT:
-            return
+        new = {seats[winner].id: won, seats[1 - winner].id: lost}
+        result = await storage.rate(record.id, record.game, new)
+        if result is RateResult.RATED:
+            return (current[0], current[1]), (new[seats[0].id], new[seats[1].id])
+        if result is RateResult.ALREADY:
+            return None
     log.error("table %s: not rated after %d conflicts", record.id, RATE_TRIES)
+    return None
 
 
 def validate(record: TableRecord, move: Move) -> InputEntry:

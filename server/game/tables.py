@@ -16,9 +16,10 @@ from pydantic import BaseModel, ConfigDict, Field
 from server.game import refereeing
 from server.game.refereeing import GameName, PlayerInput, State
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import PRESENCE_TIMEOUT, BotName, table_channel
+from server.protocol.ids import BOT_LEVELS, PRESENCE_TIMEOUT, BotName, table_channel
 from server.protocol.models import (
     Constraints,
+    Ending,
     InputKind,
     Mode,
     OutcomeMessage,
@@ -78,6 +79,8 @@ class TableRecord(BaseModel):
     pending: InputEntry | None = Field(default=None, description="accepted, not yet played")
     last_outcome: OutcomeMessage | None = None
     winner: int | None = None
+    ended: Ending | None = None
+    replays: tuple[str, ...] = Field(default=(), description="the finished racks' replays")
     deadline: float | None = None
     rematch: tuple[bool, bool] = (False, False)
     rematch_table: str | None = None
@@ -108,7 +111,7 @@ class TableRecord(BaseModel):
 
 
 def bot_player(bot: BotName) -> PlayerInfo:
-    return PlayerInfo(id=f"bot:{bot.value}", name=f"Bot ({bot.value})")
+    return PlayerInfo(id=f"bot:{bot.value}", name=f"Bot: {BOT_LEVELS[bot][1]}")
 
 
 def is_bot(player: PlayerInfo) -> bool:
@@ -180,7 +183,7 @@ def resign(record: TableRecord, player: PlayerInfo) -> TableRecord:
     if record.status is not Status.PLAYING:
         raise ServiceError(ErrorCode.WRONG_PHASE, f"the table is {record.status.value}")
     winner = None if record.mode is Mode.PRACTICE else 1 - seat
-    return bump(record, status=Status.OVER, winner=winner)
+    return bump(record, status=Status.OVER, winner=winner, ended=Ending.RESIGNED)
 
 
 def claim(
@@ -193,7 +196,7 @@ def claim(
     until = grace_until(record, seen, now, grace)[1 - seat]
     if until is None or now < until:
         raise ServiceError(ErrorCode.WRONG_PHASE, "your opponent is here or within grace")
-    return bump(record, status=Status.OVER, winner=seat)
+    return bump(record, status=Status.OVER, winner=seat, ended=Ending.CLAIMED)
 
 
 def rematch_id(table_id: str) -> str:
@@ -349,6 +352,8 @@ def view(
         last_outcome=record.last_outcome,
         presence=presence(record, seen, time.time() if now is None else now),
         winner=record.winner,
+        ended=record.ended,
+        replays=list(record.replays),
         rematch=record.rematch,
         rematch_table=record.rematch_table,
     )
@@ -387,6 +392,8 @@ def played(
         racks_won=racks_won,
         status=status,
         winner=winner,
+        ended=Ending.RACKS if status is Status.OVER else None,
+        replays=record.replays if replay is None else (*record.replays, replay),
         pending=None,
     )
     outcome = OutcomeMessage(

@@ -21,6 +21,7 @@ from redis.exceptions import RedisError
 
 from server.game import commands, tables
 from server.game.lobby import new_seed
+from server.game.profiles import bots, profile, rating_view
 from server.game.service import SERVICE_KEY, Service, running_service
 from server.game.tables import GRACE, TableRecord
 from server.protocol import ids
@@ -28,6 +29,7 @@ from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import MAX_BODY, MAX_RECORD_BODY, new_table_id
 from server.protocol.models import (
     ApiError,
+    BotList,
     BreakEntry,
     ChatMessage,
     ClaimRequest,
@@ -38,13 +40,13 @@ from server.protocol.models import (
     Leaderboard,
     PlayerCreate,
     PlayerInfo,
+    PlayerProfile,
     PlayerRatings,
     PlayerToken,
     PresenceMessage,
     QuickMessageRequest,
     QuickRequest,
     QuickStatus,
-    RatingView,
     ReplayShots,
     ReplayView,
     TableCreate,
@@ -174,11 +176,16 @@ async def player_ratings(request: web.Request) -> web.Response:
     player = await storage.get_player(request.match_info["player"])
     if player is None:
         raise ServiceError(ErrorCode.NOT_FOUND, "no such player")
-    views = {
-        game: RatingView(**rating.model_dump(), provisional=rating.provisional)
-        for game, rating in (await storage.ratings(player.id)).items()
-    }
+    views = {game: rating_view(r) for game, r in (await storage.ratings(player.id)).items()}
     return answer(PlayerRatings(player=player, ratings=views))
+
+
+async def list_bots(request: web.Request) -> web.Response:
+    return answer(await bots(service_of(request).storage))
+
+
+async def player_profile(request: web.Request) -> web.Response:
+    return answer(await profile(service_of(request).storage, request.match_info["player"]))
 
 
 # ----- tables ---------------------------------------------------------------------------------
@@ -327,6 +334,11 @@ ROUTES: tuple[Route, ...] = (
     Route("GET", f"/api/players/{PLAYER_ID}/ratings", player_ratings,
           "A player's rating in each game", {200: PlayerRatings}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
+    Route("GET", f"/api/players/{PLAYER_ID}/profile", player_profile,
+          "A player's ratings, recent matches and best breaks", {200: PlayerProfile}, auth=False,
+          refusals=(ErrorCode.NOT_FOUND,)),
+    Route("GET", "/api/bots", list_bots, "The bots' levels, names and ratings", {200: BotList},
+          auth=False),
     Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate,
           refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/tables", list_tables, "Open and live public tables", {200: TableList},

@@ -34,6 +34,17 @@ class BotName(StrEnum):
     LEVEL_5 = "bot:5"
 
 
+#: Each bot's level (0: the shot picker, which never searches) and its name in words.
+BOT_LEVELS: dict[BotName, tuple[int, str]] = {
+    BotName.PICKER: (0, "Ghost-ball aimer"),
+    BotName.LEVEL_1: (1, "Beginner"),
+    BotName.LEVEL_2: (2, "Casual"),
+    BotName.LEVEL_3: (3, "Club player"),
+    BotName.LEVEL_4: (4, "Strong"),
+    BotName.LEVEL_5: (5, "Strongest"),
+}
+
+
 class QuickText(StrEnum):
     """The fixed set of quick messages: nothing else can be said, so nothing to moderate."""
 

@@ -57,6 +57,15 @@ class Status(StrEnum):
     CANCELLED = "cancelled"
 
 
+class Ending(StrEnum):
+    """How a match ended: its racks decided it, a player resigned, or the win was claimed from
+    an absent player."""
+
+    RACKS = "racks"
+    RESIGNED = "resigned"
+    CLAIMED = "claimed"
+
+
 class InputKind(StrEnum):
     SHOT = "shot"
     CHOICE = "choice"
@@ -112,6 +121,51 @@ class PlayerRatings(BaseModel):
 
     player: PlayerInfo
     ratings: dict[str, RatingView] = Field(description="by game; a game never played is absent")
+
+
+class ProfileMatch(BaseModel):
+    """One decided match in a player's history, from that player's side."""
+
+    model_config = _ANSWER
+
+    table: TableId
+    game: GameName
+    at: float = Field(description="unix time it was decided")
+    opponent: PlayerInfo
+    won: bool
+    ended: Ending
+    score: tuple[int, int] = Field(description="racks won: this player's, the opponent's")
+    rating_before: float
+    rating_after: float
+    replays: list[ReplayId] = Field(description="each finished rack's replay")
+
+
+class PlayerProfile(BaseModel):
+    """Who a player is here: ratings, recent matches, best breaks."""
+
+    model_config = _ANSWER
+
+    player: PlayerInfo
+    ratings: dict[str, RatingView] = Field(description="by game; a game never played is absent")
+    matches: list[ProfileMatch] = Field(description="the most recent first")
+    best_breaks: dict[str, BreakEntry] = Field(description="by game, under the player's name")
+
+
+class BotInfo(BaseModel):
+    """One of the server's bots: what to send as `bot` to play it, and how it has done."""
+
+    model_config = _ANSWER
+
+    id: BotName
+    level: int = Field(description="0: the shot picker (never searches), 1 (weakest) to 5")
+    name: str = Field(description="the level in words")
+    ratings: dict[str, RatingView] = Field(description="by game, once it has played rated games")
+
+
+class BotList(BaseModel):
+    model_config = _ANSWER
+
+    bots: list[BotInfo] = Field(description="weakest first")
 
 
 # ----- tables ---------------------------------------------------------------------------------
@@ -231,6 +285,8 @@ class TableView(BaseModel):
     presence: tuple[bool, bool] = (True, True)
     spectators: int = 0
     winner: Seat | None = None
+    ended: Ending | None = Field(default=None, description="how the match ended, once over")
+    replays: list[ReplayId] = Field(default=[], description="each finished rack's replay")
     rematch: tuple[bool, bool] = (False, False)
     rematch_table: TableId | None = None
 

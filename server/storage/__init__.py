@@ -58,6 +58,10 @@ What a backend must guarantee
    table, and returns their ids; a table changed since keeps its new expiry. Replays, breaks
    and ratings are never expired. So the live store holds the tables of the last
    `KEEP_FINISHED` / `KEEP_IDLE` seconds, not every table ever played.
+13. **Match history.** `add_result` stores a decided match's result at most once per table
+   (False, nothing stored, when it was stored before), atomically with its place in both
+   players' histories; `results(player, limit)` lists a player's results newest first, at
+   most `limit`. Results are never expired.
 """
 
 from __future__ import annotations
@@ -66,6 +70,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from enum import StrEnum
 
+from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
 from server.protocol.models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
@@ -192,6 +197,15 @@ class Storage(ABC):
     @abstractmethod
     async def best_break(self, game: str, name: str) -> BreakEntry | None:
         """The highest break of a game under a name."""
+
+    # ----- match history ----------------------------------------------------------------
+    @abstractmethod
+    async def add_result(self, result: MatchResult) -> bool:
+        """Store a decided match once per table, in both players' histories (invariant 13)."""
+
+    @abstractmethod
+    async def results(self, player_id: str, limit: int) -> list[MatchResult]:
+        """A player's decided matches, newest first."""
 
     # ----- quick match ------------------------------------------------------------------
     @abstractmethod

@@ -11,8 +11,8 @@ renamed there would change what is stored. That must never happen silently: `fin
 digests the JSON schema of every type stored, and tests/service/test_records.py holds it
 against `FINGERPRINT`. A change that alters it fails that test until its author bumps
 `STORAGE_VERSION`, adds the migration from the previous version (the identity when old
-documents still read correctly, as for version 1, written before documents carried a version,
-whose tables merely lack `started`) and records the new fingerprint.
+documents still read correctly, as for the versions so far, whose tables merely lack fields
+that have defaults) and records the new fingerprint.
 """
 
 from __future__ import annotations
@@ -24,13 +24,14 @@ from typing import Any, TypeVar
 
 from pydantic import BaseModel
 
+from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
 from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, ReplayView
 
-STORAGE_VERSION = 2
+STORAGE_VERSION = 3
 #: The digest of the stored types' schemas at `STORAGE_VERSION` (see the module docstring).
-FINGERPRINT = "4a9058e257208c08"
+FINGERPRINT = "3b2c9f99db1c2cfa"
 #: The record types storage keeps (and `fingerprint` digests).
 STORED: tuple[type[BaseModel], ...] = (
     TableRecord,
@@ -40,12 +41,17 @@ STORED: tuple[type[BaseModel], ...] = (
     ReplayView,
     BreakEntry,
     PlayerInfo,
+    MatchResult,
 )
 
 Document = dict[str, Any]
 #: MIGRATIONS[v] turns a document of version v, of the given record type, into version v + 1.
 MIGRATIONS: dict[int, Callable[[type[BaseModel], Document], Document]] = {
+    # 1 -> 2: tables gained `started` (None: presence counts from their creation).
     1: lambda _kind, document: document,
+    # 2 -> 3: tables gained how they `ended` and their racks' `replays` (none known before),
+    # and match results are stored.
+    2: lambda _kind, document: document,
 }
 
 M = TypeVar("M", bound=BaseModel)

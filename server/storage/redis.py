@@ -14,7 +14,8 @@ replica sends it. Keys, all prefixed `game:`:
   `rated` the set of tables whose result was rated;
 - `rp:{id}` replays; `bk` the set of break keys, `be` a hash key -> break, `lb:{game}` a
   sorted set of a game's breaks by score, `lbn:{game}` a hash name -> key of its best break;
-- `q:{game}` the quick-match queues and `qs:{player}` each player's quick-match status.
+- `q:{game}` the quick-match queues and `qs:{player}` each player's quick-match status;
+- `res:{table}` a decided match's result, `hist:{player}` a sorted set of its tables by time.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from __future__ import annotations
 import redis.asyncio as aioredis
 from redis.exceptions import RedisError
 
+from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
 from server.protocol.models import BreakEntry, PlayerInfo, ReplayView
@@ -118,6 +120,13 @@ redis.call('SET', KEYS[2], ARGV[2], 'PXAT', ARGV[5])
 return false
 """
 
+# KEYS: the result's key, then each player's history. ARGV: the result, its time, table id.
+_ADD_RESULT = """
+if redis.call('SET', KEYS[1], ARGV[1], 'NX') == false then return 0 end
+for i = 2, #KEYS do redis.call('ZADD', KEYS[i], ARGV[2], ARGV[3]) end
+return 1
+"""
+
 # KEYS: caller's status. ARGV: when the wait lapses (unix ms).
 _TOUCH_QUICK = """
 local status = redis.call('GET', KEYS[1])
@@ -186,6 +195,7 @@ class RedisStorage(Storage):
         self._pair = self._redis.register_script(_PAIR)
         self._cancel = self._redis.register_script(_CANCEL)
         self._touch_quick = self._redis.register_script(_TOUCH_QUICK)
+        self._add_result = self._redis.register_script(_ADD_RESULT)
         self._rate = self._redis.register_script(_RATE)
         self._expire = self._redis.register_script(_EXPIRE)
         self._add_break = self._redis.register_script(_ADD_BREAK)
@@ -337,6 +347,16 @@ class RedisStorage(Storage):
         return (RateResult.RATED, RateResult.ALREADY, RateResult.CONFLICT)[answer]
 
     # ----- replays and the leaderboard ---------------------------------------------------
+    async def add_result(self, result: MatchResult) -> bool:
+        keys = [f"{P}res:{result.table}", *(f"{P}hist:{p.id}" for p in result.seats)]
+        args = [dump(result), result.at, result.table]
+        return bool(await self._add_result(keys=keys, args=args))
+
+    async def results(self, player_id: str, limit: int) -> list[MatchResult]:
+        tables = await self._redis.zrevrange(f"{P}hist:{player_id}", 0, limit - 1)
+        docs = await self._redis.mget([f"{P}res:{table}" for table in tables]) if tables else []
+        return [load(MatchResult, doc) for doc in docs if doc]
+
     async def add_replay(self, replay: ReplayView) -> None:
         await self._redis.set(f"{P}rp:{replay.id}", dump(replay))
 

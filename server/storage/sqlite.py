@@ -33,6 +33,7 @@ from pathlib import Path
 
 import aiosqlite
 
+from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import KEEP_IDLE, InputEntry, TableRecord
 from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, ReplayView
@@ -76,6 +77,11 @@ CREATE TABLE IF NOT EXISTS breaks (
     key TEXT PRIMARY KEY, game TEXT NOT NULL, score INTEGER NOT NULL, name TEXT NOT NULL,
     at REAL NOT NULL, doc TEXT NOT NULL);
 CREATE INDEX IF NOT EXISTS breaks_rank ON breaks (game, score DESC, at);
+CREATE TABLE IF NOT EXISTS results (table_id TEXT PRIMARY KEY, doc TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS history (
+    player TEXT NOT NULL, at REAL NOT NULL, table_id TEXT NOT NULL,
+    PRIMARY KEY (player, table_id));
+CREATE INDEX IF NOT EXISTS history_recent ON history (player, at DESC);
 CREATE TABLE IF NOT EXISTS quick (
     player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL,
     alive REAL NOT NULL DEFAULT 0);
@@ -396,6 +402,29 @@ class SqliteStorage(Storage):
                     (player, game, dump(rating)),
                 )
             return RateResult.RATED
+
+    # ----- match history ----------------------------------------------------------------
+    async def add_result(self, result: MatchResult) -> bool:
+        async with self._transaction() as db:
+            cursor = await db.execute(
+                "INSERT OR IGNORE INTO results VALUES (?, ?)", (result.table, dump(result))
+            )
+            if cursor.rowcount == 0:
+                return False
+            for player in result.seats:
+                await db.execute(
+                    "INSERT INTO history VALUES (?, ?, ?)", (player.id, result.at, result.table)
+                )
+            return True
+
+    async def results(self, player_id: str, limit: int) -> list[MatchResult]:
+        rows = await self._rows(
+            "SELECT doc FROM history JOIN results USING (table_id) WHERE player = ?"
+            " ORDER BY at DESC LIMIT ?",
+            player_id,
+            limit,
+        )
+        return [load(MatchResult, row[0]) for row in rows]
 
     # ----- replays and the leaderboard ---------------------------------------------------
     async def add_replay(self, replay: ReplayView) -> None:

@@ -11,9 +11,10 @@ import pytest
 
 from server.game import refereeing
 from server.game.actor import rate
+from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join, played
-from server.protocol.models import BreakEntry, Source, Status
+from server.protocol.models import BreakEntry, Ending, Source, Status
 from server.storage import AcceptResult, RateResult, Storage
 from server.storage.sqlite import SCHEMA, SqliteStorage
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
@@ -221,7 +222,7 @@ async def test_two_replicas_rating_one_player_at_once_lose_nothing(
         seated = join(a_table(f"{i + 1}" * 20), opponent)
         matches.append(bump(seated, status=Status.OVER, winner=0))
     await asyncio.gather(
-        *(rate(s, m, list(m.seats)) for s, m in zip(stores * 4, matches * 4, strict=True))
+        *(rate(s, m, m.seats) for s, m in zip(stores * 4, matches * 4, strict=True))
     )
     ada = (await stores[0].ratings("p_ada"))["nineball"]
     assert ada.games == 2 and ada.rating > (await stores[1].ratings("p_bob"))["nineball"].rating
@@ -394,3 +395,32 @@ async def test_a_database_from_before_the_outcome_column_keeps_its_last_outcomes
         assert (await storage.get_table(after.id)).last_outcome == after.last_outcome
     finally:
         await storage.close()
+
+
+def a_result(table: str, at: float, winner: int = 0) -> MatchResult:
+    return MatchResult(
+        table=table,
+        game="nineball",
+        at=at,
+        seats=(ADA, BOB),
+        winner=winner,
+        ended=Ending.RACKS,
+        racks_won=(1, 0) if winner == 0 else (0, 1),
+        before=(Rating(), Rating()),
+        after=(Rating(rating=1600.0, games=1), Rating(rating=1400.0, games=1)),
+        replays=("a" * 24,),
+    )
+
+
+async def test_a_result_is_kept_once_in_both_histories_newest_first(
+    open_storage: OpenStorage,
+) -> None:
+    stores = [await open_storage() for _ in range(2)]
+    first, second = a_result("1" * 20, 1000.0), a_result("2" * 20, 2000.0, winner=1)
+    added = await asyncio.gather(*(s.add_result(first) for s in stores * 3))
+    assert sorted(added) == [False] * 5 + [True]  # once, whoever stores it first
+    assert await stores[1].add_result(second)
+    for player in (ADA, BOB):
+        assert await stores[0].results(player.id, 10) == [second, first]
+        assert await stores[1].results(player.id, 1) == [second]
+    assert await stores[0].results("p_nobody", 10) == []

@@ -1,0 +1,43 @@
+"""Profiles: a decided match lands once in both players' histories with its ratings, how it
+ended and its replays; bots are rated like anyone and listed with their levels."""
+
+from __future__ import annotations
+
+from aiohttp.test_utils import TestClient
+
+from tests.service.conftest import register
+from tests.service.test_match import seated_match
+
+
+async def test_a_resigned_match_is_in_both_profiles(server: TestClient) -> None:
+    ada, bob, view = await seated_match(server)
+    _, over = await ada.call("POST", f"/api/tables/{view['id']}/resign", expect=200)
+    assert over["ended"] == "resigned" and over["winner"] == 1
+    profiles = {}
+    for player in (ada, bob):
+        response = await server.get(f"/api/players/{player.info['id']}/profile")
+        assert response.status == 200
+        profiles[player.info["name"]] = await response.json()
+    lost, won = profiles["Ada"]["matches"], profiles["Bob"]["matches"]
+    assert len(lost) == len(won) == 1
+    assert (lost[0]["won"], won[0]["won"]) == (False, True)
+    assert lost[0]["opponent"]["id"] == bob.info["id"] and lost[0]["ended"] == "resigned"
+    assert won[0]["rating_after"] > won[0]["rating_before"] == 1500.0
+    assert lost[0]["rating_after"] < lost[0]["rating_before"]
+    assert profiles["Bob"]["ratings"]["nineball"]["games"] == 1
+    assert profiles["Bob"]["ratings"]["nineball"]["provisional"] is True
+    missing = await server.get("/api/players/p_0123456789abcdef/profile")
+    assert missing.status == 404 and (await missing.json())["code"] == "not_found"
+
+
+async def test_bots_are_rated_and_listed_by_level(server: TestClient) -> None:
+    ada = await register(server, "Ada")
+    table = await ada.create("eightball", mode="bot", bot="bot:2")
+    await ada.call("POST", f"/api/tables/{table['id']}/resign", expect=200)
+    bots = await (await server.get("/api/bots")).json()
+    levels = {bot["id"]: bot for bot in bots["bots"]}
+    assert levels["bot:2"]["ratings"]["eightball"]["games"] == 1
+    assert levels["bot:2"]["ratings"]["eightball"]["rating"] > 1500.0
+    assert levels["bot:5"]["ratings"] == {}
+    assert [bot["level"] for bot in bots["bots"]] == sorted(bot["level"] for bot in bots["bots"])
+    assert all(bot["name"] and ":" not in bot["name"] for bot in bots["bots"])
