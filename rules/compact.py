@@ -7,6 +7,9 @@ record, bit for bit. The msgpack document is one array:
 
     [FORMAT, engine, game, seed, gap, target, breaker, inputs, digests, scores, winner, digest]
 
+and, for a snooker game with fewer reds than fifteen, their number after the digest (so the
+links of full games read as before).
+
 game: index in `Game`. gap: in 1e-7 m. breaker: the player who breaks (0 or 1). inputs: one
 flat array of integers (and a string where a name is not one of the table's). digests: the
 per-input 16-bit digests as one byte string. digest: the final 8-byte chain link. Each input
@@ -50,7 +53,7 @@ from rules.inputs import (
     fixed,
     heading_steps,
 )
-from rules.racks import Game, rack
+from rules.racks import REDS_FULL, Game, rack
 from rules.record import MAX_INPUTS, GameRecord
 from rules.referee import referee
 
@@ -117,6 +120,8 @@ def pack(record: GameRecord) -> bytes:
     doc = [FORMAT, record.engine, GAMES.index(s.game), s.seed, fixed(s.gap, GAP_STEPS), s.target]
     doc.append(s.breaker)
     doc += [_pack_inputs(record), digests, list(f.scores), f.winner, bytes.fromhex(f.digest)]
+    if s.reds != REDS_FULL:
+        doc.append(s.reds)
     return msgpack.packb(doc)
 
 
@@ -198,6 +203,7 @@ def unpack(data: bytes) -> GameRecord:
     """A record from its msgpack bytes; raises RuleError (MALFORMED) for anything else."""
     try:
         doc = msgpack.unpackb(data, strict_map_key=True)
+        reds = doc.pop() if isinstance(doc, list) and len(doc) == 13 else REDS_FULL
         version, engine, game, seed, gap, target, breaker, ints, digests, scores, winner, last = doc
         if version != FORMAT or type(game) is not int or not 0 <= game < len(GAMES):
             raise ValueError("not a compact record of this format")
@@ -206,7 +212,12 @@ def unpack(data: bytes) -> GameRecord:
         if type(gap) is not int:
             raise ValueError("the gap is not an integer")
         setup = Setup(
-            game=GAMES[game], seed=seed, gap=gap / GAP_STEPS, target=target, breaker=breaker
+            game=GAMES[game],
+            seed=seed,
+            gap=gap / GAP_STEPS,
+            target=target,
+            breaker=breaker,
+            reds=reds,
         )
         if not isinstance(ints, list):
             raise ValueError("inputs must be an array")

@@ -31,7 +31,7 @@ from rules import pool
 from rules.codes import NoteCode
 from rules.events import ShotFacts, read_shot
 from rules.inputs import Shot, ShotOptions
-from rules.racks import SOLIDS, STRIPES, Game, rack
+from rules.racks import REDS_FULL, SOLIDS, STRIPES, Game, rack
 from rules.spots import POOL_TABLE, Point
 from rules.state import Decision, Foul, Group, Note, State, note, other
 
@@ -41,7 +41,7 @@ TABLE = POOL_TABLE
 CALL_THE_EIGHT = ShotOptions(call=pool.POCKETS)
 
 
-def new_game(seed: int, gap: float = 0.0, target: int = 0) -> State:
+def new_game(seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL) -> State:
     return State(game=GAME, balls=rack(GAME, seed, gap), ball_in_hand="kitchen")
 
 

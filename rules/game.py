@@ -12,14 +12,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 import physics
 from rules.codes import Refusal, RuleError
 from rules.inputs import Choice, PlayerInput, Shot, check_canonical, quantise
-from rules.racks import Game
+from rules.racks import REDS_FULL, Game
 from rules.referee import allowed, referee
 from rules.spots import Point, in_region, is_free
 from rules.state import Decision, State, other
@@ -43,6 +43,7 @@ class Setup(BaseModel):
     gap: the largest extra space between rack balls (m), see `rules.racks`; quantised to
         1e-7 m (GAP_STEPS) so that the compact record stores it as an integer.
     target: three-cushion points to win (0 = the default of 15); ignored by the other games.
+    reds: snooker's reds, 6, 10 or 15 (the full game); the other games keep 15, unused.
     breaker: the player (0 or 1) who breaks, so that a match's racks, whose break alternates,
         are each a record of their own with the players as seated. Three-cushion's rack
         places the breaker's ball as the white, so its breaker is always player 0.
@@ -55,6 +56,7 @@ class Setup(BaseModel):
     gap: Annotated[float, Field(strict=True, ge=0.0, le=0.005, allow_inf_nan=False)] = 0.0
     target: Annotated[int, Field(strict=True, ge=0, le=1000)] = 0
     breaker: Annotated[int, Field(strict=True, ge=0, le=1)] = 0
+    reds: Literal[6, 10, 15] = REDS_FULL
 
     @field_validator("gap")
     @classmethod
@@ -65,6 +67,8 @@ class Setup(BaseModel):
     def _white_breaks(self) -> Setup:
         if self.game is Game.THREE_CUSHION and self.breaker != 0:
             raise ValueError("in three-cushion player 0 breaks (the rack's white is theirs)")
+        if self.game is not Game.SNOOKER and self.reds != REDS_FULL:
+            raise ValueError("only snooker is played with fewer reds")
         return self
 
 
@@ -79,7 +83,7 @@ class Outcome:
 
 
 def start(setup: Setup) -> State:
-    first = referee(setup.game).new_game(setup.seed, setup.gap, setup.target)
+    first = referee(setup.game).new_game(setup.seed, setup.gap, setup.target, setup.reds)
     return first.evolve(turn=setup.breaker) if setup.breaker else first
 
 

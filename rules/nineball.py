@@ -27,7 +27,7 @@ from rules import pool
 from rules.codes import NoteCode
 from rules.events import read_shot
 from rules.inputs import Shot, ShotOptions
-from rules.racks import Game, rack
+from rules.racks import REDS_FULL, Game, rack
 from rules.spots import POOL_TABLE, Point
 from rules.state import Decision, State, note, other
 
@@ -38,7 +38,7 @@ FOULS_TO_LOSE = 3
 PUSH_OUT_SHOT = 1
 
 
-def new_game(seed: int, gap: float = 0.0, target: int = 0) -> State:
+def new_game(seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL) -> State:
     return State(game=GAME, balls=rack(GAME, seed, gap), ball_in_hand="kitchen")
 
 

@@ -8,8 +8,9 @@ end (pool's kitchen, snooker's baulk, carom's head string) at small y, the rack 
 - Eight-ball: a triangle with the apex on the foot spot, the 8 in the middle of the third row,
   a stripe and a solid in the two back corners (which side each goes from the seed), the other
   twelve from the seed (WPA). Cue ball on the head spot.
-- Snooker: colours on their spots, fifteen reds in a triangle whose apex sits just behind the
-  pink without touching it; the cue ball in the D beside the brown.
+- Snooker: colours on their spots, fifteen reds (or six or ten: a triangle of three or four
+  rows) in a triangle whose apex sits just behind the pink without touching it; the cue ball
+  in the D beside the brown.
 - Three-cushion: red on the top (foot) spot, the opponent's yellow on the head spot, the
   breaker's white on the head string 15.2 cm to one side of it (the side from the seed).
 
@@ -42,6 +43,9 @@ class Game(StrEnum):
 SOLIDS = tuple(str(n) for n in range(1, 8))
 STRIPES = tuple(str(n) for n in range(9, 16))
 REDS = tuple(f"red{n}" for n in range(1, 16))
+#: Snooker's full set of reds, and the smaller sets played by each number of triangle rows.
+REDS_FULL = len(REDS)
+RED_ROWS = {6: 3, 10: 4, 15: 5}
 
 #: Offset of the carom breaker's ball from the head spot along the head string (m).
 CAROM_BREAK_OFFSET = 0.152
@@ -105,14 +109,14 @@ def eightball(seed: int, gap: float = 0.0) -> dict[str, Point]:
     return balls
 
 
-def snooker(seed: int, gap: float = 0.0) -> dict[str, Point]:
+def snooker(seed: int, gap: float = 0.0, reds: int = REDS_FULL) -> dict[str, Point]:
     rng = random.Random(seed)
     R = SNOOKER.R
     pink = SNOOKER_SPOTS["pink"]
     apex = (pink[0], pink[1] + 2 * R + gap + CLEARANCE)
-    spots = [p for row in _triangle(apex, 5, R, gap) for p in row]
+    spots = [p for row in _triangle(apex, RED_ROWS[reds], R, gap) for p in row]
     # Reds are interchangeable, but shuffling their ids keeps each id's place seeded too.
-    ids = list(REDS)
+    ids = list(REDS[:reds])
     rng.shuffle(ids)
     balls = dict(SNOOKER_SPOTS)
     balls["cue"] = (SNOOKER.width / 2 + D_CUE_OFFSET, SNOOKER_SPOTS["brown"][1])
@@ -140,8 +144,13 @@ RACKS = {
 }
 
 
-def rack(game: Game, seed: int, gap: float = 0.0) -> dict[str, Point]:
-    """The starting layout of `game` for `seed` (see the module docstring)."""
+def rack(game: Game, seed: int, gap: float = 0.0, reds: int = REDS_FULL) -> dict[str, Point]:
+    """The starting layout of `game` for `seed` (see the module docstring); `reds` counts
+    only in snooker."""
     if not (math.isfinite(gap) and 0.0 <= gap <= 0.005):
         raise ValueError(f"rack gap must be between 0 and 0.005 m, got {gap!r}")
+    if game is Game.SNOOKER:
+        if reds not in RED_ROWS:
+            raise ValueError(f"snooker is played with {sorted(RED_ROWS)} reds, not {reds!r}")
+        return snooker(seed, gap, reds)
     return RACKS[game](seed, gap)

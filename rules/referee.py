@@ -14,7 +14,7 @@ from typing import Protocol, runtime_checkable
 import physics
 from rules import eightball, nineball, snooker, three_cushion
 from rules.inputs import Option, Shot, ShotOptions
-from rules.racks import Game
+from rules.racks import REDS_FULL, Game
 from rules.spots import Point, Table
 from rules.state import Decision, Region, State
 
@@ -24,16 +24,19 @@ class Referee(Protocol):
     """One game's rules.
 
     GAME, TABLE: the game refereed and the table it is played on. new_game: the state before
-    the break. cue_ball: the ball the player to shoot must strike. targets: the balls that
-    player may legally hit first from `balls`. options: the declarations the next shot may
-    carry. judge: the state after a shot (already checked) and the decision explaining it,
-    from the position `before` the stroke and the engine's result.
+    the break (`target`: three-cushion's points to win; `reds`: snooker's reds, 6, 10 or 15;
+    each game ignores the other's). cue_ball: the ball the player to shoot must strike.
+    targets: the balls that player may legally hit first from `balls`. options: the
+    declarations the next shot may carry. judge: the state after a shot (already checked) and
+    the decision explaining it, from the position `before` the stroke and the engine's result.
     """
 
     GAME: Game
     TABLE: Table
 
-    def new_game(self, seed: int, gap: float = 0.0, target: int = 0) -> State: ...
+    def new_game(
+        self, seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL
+    ) -> State: ...
 
     def cue_ball(self, state: State) -> str: ...
 

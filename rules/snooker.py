@@ -46,7 +46,7 @@ from rules.aim import snookered
 from rules.codes import FoulCode, NoteCode
 from rules.events import ShotFacts, read_shot
 from rules.inputs import Shot, ShotOptions
-from rules.racks import Game, rack
+from rules.racks import REDS_FULL, Game, rack
 from rules.spots import SNOOKER, SNOOKER_SPOTS, Point, is_free, place_near
 from rules.state import Decision, Foul, Note, State, award, conclude, foul, note, other
 
@@ -58,8 +58,8 @@ NEXT_COLOUR = dict(pairwise(COLOURS))
 MIN_PENALTY, MAX_PENALTY = 4, 7
 
 
-def new_game(seed: int, gap: float = 0.0, target: int = 0) -> State:
-    return State(game=GAME, balls=rack(GAME, seed, gap), ball_in_hand="D", on="red")
+def new_game(seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL) -> State:
+    return State(game=GAME, balls=rack(GAME, seed, gap, reds), ball_in_hand="D", on="red")
 
 
 def cue_ball(state: State) -> str:

@@ -24,7 +24,7 @@ from physics.trajectory import Event
 from rules.codes import FoulCode, NoteCode
 from rules.events import CUSHION_EVENTS, read_shot
 from rules.inputs import Shot, ShotOptions
-from rules.racks import Game, rack
+from rules.racks import REDS_FULL, Game, rack
 from rules.spots import CAROM_TABLE, Point
 from rules.state import Decision, Foul, State, award, conclude, foul, note, other
 
@@ -35,7 +35,7 @@ CUSHIONS_NEEDED = 3
 DEFAULT_TARGET = 15
 
 
-def new_game(seed: int, gap: float = 0.0, target: int = 0) -> State:
+def new_game(seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL) -> State:
     return State(
         game=GAME,
         balls=rack(GAME, seed, gap),

@@ -75,7 +75,14 @@ class Breaks:
 
         played: each input of the rack that was played (void ones left out), with the state it
         led to (the last one's `best` is each player's best break of the rack)."""
-        setup = refereeing.rack_setup(record.game, record.seed + record.rack, record.breaker)
+        options = record.options
+        setup = refereeing.rack_setup(
+            record.game,
+            record.seed + record.rack,
+            record.breaker,
+            reds=options.reds,
+            target=options.target,
+        )
         game_record = refereeing.rack_record(setup, played)
         replay, best = rack_replay(record, game_record, played[-1][1])
         await self._storage.add_replay(replay)

@@ -28,6 +28,7 @@ from server.game.tables import TableRecord
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import LOBBY, QUICK_LAPSE, QUICK_SHOT_CLOCK, new_table_id, player_channel
 from server.protocol.models import (
+    GameChoice,
     LobbyMessage,
     PairedMessage,
     PlayerInfo,
@@ -51,6 +52,25 @@ PAIRING_KEPT = 60.0
 
 def new_seed() -> int:
     return secrets.randbelow(2**62)
+
+
+def pool_of(choice: GameChoice) -> str:
+    """The quick-match pool of a game and options: the game's name, then each option that is
+    not its default as `~name=value` (so that players asking for the same are paired)."""
+    defaults = GameChoice(game=choice.game)
+    changed = [
+        f"~{name}={value}"
+        for name, value in choice.model_dump().items()
+        if name != "game" and value != getattr(defaults, name)
+    ]
+    return choice.game + "".join(changed)
+
+
+def choice_of(pool: str) -> GameChoice:
+    """The game and options a pool stands for (`pool_of` read back)."""
+    game, *options = pool.split("~")
+    fields = dict(option.split("=", 1) for option in options)
+    return GameChoice.model_validate({"game": game, **{k: int(v) for k, v in fields.items()}})
 
 
 class Lobby:
@@ -95,12 +115,12 @@ class Lobby:
         return LobbyMessage(tables=(await self.tables()).tables, players_online=online)
 
     # ----- quick match ------------------------------------------------------------------
-    async def quick(self, player: PlayerInfo, create: TableCreate) -> QuickStatus:
-        """Pair `player` with the next player waiting for the same game, or queue it (until
-        `QUICK_LAPSE` after its last request or poll)."""
+    async def quick(self, player: PlayerInfo, choice: GameChoice) -> QuickStatus:
+        """Pair `player` with the next player waiting for the same game and options, or queue
+        it (until `QUICK_LAPSE` after its last request or poll)."""
         table_id, now = new_table_id(), time.time()
         partner_id = await self._storage.pair(
-            create.game, player.id, table_id, now, now + QUICK_LAPSE
+            pool_of(choice), player.id, table_id, now, now + QUICK_LAPSE
         )
         if partner_id is None:
             return QuickStatus(status="waiting")
@@ -130,7 +150,8 @@ class Lobby:
         first, second = [await self._storage.get_player(who) for who in pairing.seats]
         if first is None or second is None:
             raise ServiceError(ErrorCode.UNAVAILABLE, "the paired player vanished")
-        create = TableCreate(game=pairing.game, shot_clock=QUICK_SHOT_CLOCK)
+        choice = choice_of(pairing.pool)
+        create = TableCreate(**choice.model_dump(), shot_clock=QUICK_SHOT_CLOCK)
         record = tables.join(tables.new_table(pairing.table, create, first, new_seed()), second)
         try:
             await self._storage.create_table(record)

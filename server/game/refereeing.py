@@ -19,6 +19,7 @@ from rules.codes import RuleError
 from rules.game import Setup, play, start
 from rules.game import check as rules_check
 from rules.inputs import Choice, Option, PlayerInput, Shot, accept
+from rules.racks import REDS_FULL
 from rules.racks import Game as GameName
 from rules.record import GameRecord, replay
 from rules.referee import allowed
@@ -81,15 +82,20 @@ def next_breaker(game: GameName, breaker: int) -> int:
     return 0 if game is GameName.THREE_CUSHION else 1 - breaker
 
 
-def rack_setup(game: GameName, seed: int, breaker: int) -> Setup:
+def rack_setup(
+    game: GameName, seed: int, breaker: int, *, reds: int = REDS_FULL, target: int = 0
+) -> Setup:
     """The rules' setup of a rack whose break goes to seat `breaker` (seats are the referee's
-    players, and a setup names its breaker)."""
-    return Setup(game=game, seed=seed, breaker=breaker)
+    players, and a setup names its breaker), with the table's snooker reds and three-cushion
+    target."""
+    return Setup(game=game, seed=seed, breaker=breaker, reds=reds, target=target)
 
 
-def new_rack(game: GameName, seed: int, breaker: int) -> State:
+def new_rack(
+    game: GameName, seed: int, breaker: int, *, reds: int = REDS_FULL, target: int = 0
+) -> State:
     """The opening position of a rack, with `breaker` (a seat) to play the break."""
-    return start(rack_setup(game, seed, breaker))
+    return start(rack_setup(game, seed, breaker, reds=reds, target=target))
 
 
 def canonical(action: PlayerInput) -> PlayerInput:

@@ -137,7 +137,7 @@ def new_table(table_id: str, create: TableCreate, creator: PlayerInfo, seed: int
         seats=(creator, second),
         status=status,
         seed=seed,
-        state=refereeing.new_rack(create.game, seed + 1, 0),
+        state=refereeing.new_rack(create.game, seed + 1, 0, reds=create.reds, target=create.target),
         created=now,
         started=now if status is Status.PLAYING else None,
     )
@@ -383,7 +383,10 @@ def played(
             rack = rack + 1
             practice = record.mode is Mode.PRACTICE
             breaker = 0 if practice else refereeing.next_breaker(record.game, breaker)
-            state = refereeing.new_rack(record.game, record.seed + rack, breaker)
+            options = record.options
+            state = refereeing.new_rack(
+                record.game, record.seed + rack, breaker, reds=options.reds, target=options.target
+            )
     after = bump(
         record,
         state=state,

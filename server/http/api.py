@@ -311,7 +311,7 @@ async def quick(request: web.Request) -> web.Response:
     body = await parse(request, QuickRequest)
     service = service_of(request)
     service.throttle("quick", player.id)
-    return answer(await service.lobby.quick(player, TableCreate(game=body.game)))
+    return answer(await service.lobby.quick(player, body))
 
 
 async def quick_status(request: web.Request) -> web.Response:

@@ -140,6 +140,9 @@ QUICK_SHOT_CLOCK = 60
 #: Seconds per shot a table may set (0: no clock).
 SHOT_CLOCK_MIN, SHOT_CLOCK_MAX = 10, 300
 RACE_TO_MAX = 15
+#: Snooker's reds a table may be played with, and three-cushion's points to win (0: 15).
+SNOOKER_REDS = (6, 10, 15)
+TARGET_MAX = 100
 #: Largest request body accepted (bytes): an intent is a few hundred.
 MAX_BODY = 16 * 1024
 #: Largest claim body (bytes): a long game's record.

@@ -11,7 +11,7 @@ from enum import StrEnum
 from typing import Annotated, Literal
 
 from annotated_types import Interval
-from pydantic import BaseModel, ConfigDict, Field, StringConstraints
+from pydantic import BaseModel, ConfigDict, Field, StringConstraints, model_validator
 
 from rules.inputs import Option, PlayerInput
 from rules.racks import Game as GameName
@@ -31,6 +31,8 @@ def json_int(low: int, high: int | None = None) -> object:
 #: Seconds per shot: 0 for no clock, else 10 to 300.
 ShotClock = json_int(0, 0) | json_int(ids.SHOT_CLOCK_MIN, ids.SHOT_CLOCK_MAX)
 RaceTo = json_int(1, ids.RACE_TO_MAX)
+Reds = Literal[6, 10, 15]
+Target = json_int(0, ids.TARGET_MAX)
 
 _REQUEST = ConfigDict(frozen=True, extra="forbid")
 _ANSWER = ConfigDict(frozen=True)
@@ -175,20 +177,44 @@ class TableOptions(BaseModel):
     race_to: RaceTo = 1
     shot_clock: ShotClock = Field(default=0, description="seconds per shot, 0: no clock")
     private: bool = False
+    reds: Reds = Field(default=15, description="snooker's reds: 6, 10 or 15")
+    target: Target = Field(default=0, description="three-cushion's points to win, 0: 15")
 
 
-class TableCreate(BaseModel):
+class GameChoice(BaseModel):
+    """A game and the options that change how it is played (a quick match pairs players who
+    chose the same)."""
+
     model_config = _REQUEST
 
     game: GameName
-    mode: Mode = Mode.MATCH
     race_to: RaceTo = 1
+    reds: Reds = Field(default=15, description="snooker only: 6, 10 or 15 reds")
+    target: Target = Field(default=0, description="three-cushion only: points to win (0: 15)")
+
+    @model_validator(mode="after")
+    def _options_of_the_game(self) -> GameChoice:
+        if self.reds != 15 and self.game != "snooker":
+            raise ValueError("only snooker is played with fewer reds")
+        if self.target and self.game != "three_cushion":
+            raise ValueError("only three-cushion has a target of points")
+        return self
+
+
+class TableCreate(GameChoice):
+    mode: Mode = Mode.MATCH
     shot_clock: ShotClock = 0
     private: bool = False
     bot: BotName = BotName.LEVEL_3
 
     def options(self) -> TableOptions:
-        return TableOptions(race_to=self.race_to, shot_clock=self.shot_clock, private=self.private)
+        return TableOptions(
+            race_to=self.race_to,
+            shot_clock=self.shot_clock,
+            private=self.private,
+            reds=self.reds,
+            target=self.target,
+        )
 
 
 class ShotRules(BaseModel):
@@ -291,10 +317,8 @@ class TableView(BaseModel):
     rematch_table: TableId | None = None
 
 
-class QuickRequest(BaseModel):
-    model_config = _REQUEST
-
-    game: GameName
+class QuickRequest(GameChoice):
+    pass
 
 
 class QuickStatus(BaseModel):

@@ -41,14 +41,15 @@ What a backend must guarantee
    again. Two replicas rating two matches of one player at once both land, one after the other.
 10. **Breaks once.** `add_break` stores an entry at most once per key, atomically with the
     rankings `top_breaks` and `best_break` read.
-11. **Atomic pairing.** `pair` either takes one other player waiting for the same game off the
+11. **Atomic pairing.** `pair` either takes one other player waiting in the same pool (a game
+   and its options, as the lobby names them) off the
    queue and records both as paired at the given table (returning the partner), or queues the
    caller; a player is in at most one queue once, never paired twice by one call sequence,
    and never paired with itself. A waiting request lapses at the time it was given (`pair`,
    extended by `touch_quick`): a lapsed one is never paired and reads as idle, so a client
    that stopped asking is never matched with a live player. `quick_status` and
    `cancel_quick` read and leave the queue.
-   A pairing records its game and both players in seat order (`pairing`), so that its table
+   A pairing records its pool and both players in seat order (`pairing`), so that its table
    can be created by whoever finds it missing (the replica that paired them may have died
    before creating it).
 12. **Expiry.** `expire_tables(now, limit)` deletes from the live store at most `limit` tables
@@ -210,11 +211,11 @@ class Storage(ABC):
     # ----- quick match ------------------------------------------------------------------
     @abstractmethod
     async def pair(
-        self, game: str, player_id: str, table_id: str, now: float, until: float
+        self, pool: str, player_id: str, table_id: str, now: float, until: float
     ) -> str | None:
-        """Pair with a player waiting for the same game whose request has not lapsed by `now`
+        """Pair with a player waiting in the same pool whose request has not lapsed by `now`
         (returning its id, both now paired at `table_id`), or wait until `until` (None).
-        Asking again while waiting for the same game only extends the wait."""
+        Asking again while waiting in the same pool only extends the wait."""
 
     @abstractmethod
     async def touch_quick(self, player_id: str, until: float) -> None:
@@ -224,7 +225,7 @@ class Storage(ABC):
         return parse_quick(await self._quick_value(player_id))
 
     async def pairing(self, player_id: str) -> Pairing | None:
-        """The player's pairing, if paired: its table, game and players in seat order."""
+        """The player's pairing, if paired: its table, pool and players in seat order."""
         return Pairing.parse(await self._quick_value(player_id))
 
     @abstractmethod
@@ -245,22 +246,22 @@ class Pairing:
     """Two players paired by quick match at a table (ids and names hold no ':')."""
 
     table: str
-    game: str
+    pool: str  # the game and options asked for (server/game/lobby.py, `pool_of`)
     at: float  # unix time of the pairing
     seats: tuple[str, str]  # the player who waited first
 
     @classmethod
     def parse(cls, value: str | None) -> Pairing | None:
-        """The pairing a stored status records (`paired:<table>:<game>:<at>:<first>:<second>`)."""
+        """The pairing a stored status records (`paired:<table>:<pool>:<at>:<first>:<second>`)."""
         kind, _, rest = (value or "").partition(":")
         if kind != "paired":
             return None
-        table, game, at, first, second = rest.split(":")
-        return cls(table, game, float(at), (first, second))
+        table, pool, at, first, second = rest.split(":")
+        return cls(table, pool, float(at), (first, second))
 
 
 def parse_quick(value: str | None) -> QuickStatus:
-    """A stored quick-match status (`waiting:<game>` or `paired:...`) as the API model."""
+    """A stored quick-match status (`waiting:<pool>` or `paired:...`) as the API model."""
     if value is None:
         return QuickStatus(status="idle")
     pairing = Pairing.parse(value)
@@ -269,13 +270,13 @@ def parse_quick(value: str | None) -> QuickStatus:
     return QuickStatus(status="waiting")
 
 
-def waiting(game: str) -> str:
-    return f"waiting:{game}"
+def waiting(pool: str) -> str:
+    return f"waiting:{pool}"
 
 
-def paired(table_id: str, game: str, at: float) -> str:
+def paired(table_id: str, pool: str, at: float) -> str:
     """The start of a paired status; the players follow, `<first>:<second>` (`Pairing`)."""
-    return f"paired:{table_id}:{game}:{at:.3f}:"
+    return f"paired:{table_id}:{pool}:{at:.3f}:"
 
 
 def without_motion(entry: InputEntry) -> InputEntry:

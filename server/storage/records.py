@@ -31,7 +31,7 @@ from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, Repla
 
 STORAGE_VERSION = 3
 #: The digest of the stored types' schemas at `STORAGE_VERSION` (see the module docstring).
-FINGERPRINT = "3b2c9f99db1c2cfa"
+FINGERPRINT = "644e2dc033237d4d"
 #: The record types storage keeps (and `fingerprint` digests).
 STORED: tuple[type[BaseModel], ...] = (
     TableRecord,
@@ -49,8 +49,9 @@ Document = dict[str, Any]
 MIGRATIONS: dict[int, Callable[[type[BaseModel], Document], Document]] = {
     # 1 -> 2: tables gained `started` (None: presence counts from their creation).
     1: lambda _kind, document: document,
-    # 2 -> 3: tables gained how they `ended` and their racks' `replays` (none known before),
-    # and match results are stored.
+    # 2 -> 3: tables gained how they `ended`, their racks' `replays` (none known before) and
+    # the options `reds` and `target` (the defaults they were played with); match results are
+    # stored; a replay's rack setup may carry snooker's `reds` (15 before).
     2: lambda _kind, document: document,
 }
 

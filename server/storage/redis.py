@@ -383,11 +383,11 @@ class RedisStorage(Storage):
 
     # ----- quick match ------------------------------------------------------------------
     async def pair(
-        self, game: str, player_id: str, table_id: str, now: float, until: float
+        self, pool: str, player_id: str, table_id: str, now: float, until: float
     ) -> str | None:
-        keys = [f"{P}q:{game}", f"{P}qs:{player_id}"]
-        status = paired(table_id, game, now)
-        args = [player_id, waiting(game), status, f"{P}qs:", int(until * 1000)]
+        keys = [f"{P}q:{pool}", f"{P}qs:{player_id}"]
+        status = paired(table_id, pool, now)
+        args = [player_id, waiting(pool), status, f"{P}qs:", int(until * 1000)]
         return await self._pair(keys=keys, args=args)
 
     async def touch_quick(self, player_id: str, until: float) -> None:

@@ -465,7 +465,7 @@ class SqliteStorage(Storage):
 
     # ----- quick match ------------------------------------------------------------------
     async def pair(
-        self, game: str, player_id: str, table_id: str, now: float, until: float
+        self, pool: str, player_id: str, table_id: str, now: float, until: float
     ) -> str | None:
         async with self._transaction() as db:
             await db.execute(
@@ -474,21 +474,21 @@ class SqliteStorage(Storage):
             )
             async with db.execute("SELECT status FROM quick WHERE player = ?", (player_id,)) as c:
                 row = await c.fetchone()
-            if row is not None and row[0] == waiting(game):
+            if row is not None and row[0] == waiting(pool):
                 await db.execute("UPDATE quick SET alive = ? WHERE player = ?", (until, player_id))
                 return None
             async with db.execute(
                 "SELECT player FROM quick WHERE status = ? AND player != ? ORDER BY queued LIMIT 1",
-                (waiting(game), player_id),
+                (waiting(pool), player_id),
             ) as cursor:
                 partner = await cursor.fetchone()
             if partner is None:
                 await db.execute(
                     "INSERT OR REPLACE INTO quick VALUES (?, ?, ?, ?)",
-                    (player_id, waiting(game), next(self._queued), until),
+                    (player_id, waiting(pool), next(self._queued), until),
                 )
                 return None
-            status = f"{paired(table_id, game, now)}{partner[0]}:{player_id}"
+            status = f"{paired(table_id, pool, now)}{partner[0]}:{player_id}"
             for who in (player_id, partner[0]):
                 await db.execute(
                     "INSERT OR REPLACE INTO quick VALUES (?, ?, ?, 0)",

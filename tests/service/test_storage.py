@@ -143,7 +143,7 @@ async def test_pairing_is_atomic_under_one_hundred_simultaneous_requests(
         pairing = await stores[1].pairing(p)
         assert pairing == await stores[2].pairing(q)  # one record of it, for both
         assert pairing is not None and pairing.table == statuses[p].table
-        assert pairing.seats == (q, p) and pairing.game == "nineball"  # the waiter first
+        assert pairing.seats == (q, p) and pairing.pool == "nineball"  # the waiter first
     assert len({statuses[p].table for p in players}) == 50
 
 
