@@ -16,6 +16,7 @@ plays with a `QUICK_SHOT_CLOCK` shot clock, so that no seat can hold it forever.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import secrets
 import time
@@ -28,11 +29,14 @@ from server.game.tables import TableRecord
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import LOBBY, QUICK_LAPSE, QUICK_SHOT_CLOCK, new_table_id, player_channel
 from server.protocol.models import (
+    Doing,
     GameChoice,
     LobbyMessage,
+    OnlinePlayer,
     PairedMessage,
     PlayerInfo,
     QuickStatus,
+    Status,
     TableCreate,
     TableList,
     TableSummary,
@@ -43,8 +47,10 @@ log = logging.getLogger(__name__)
 
 #: Seconds between lobby snapshots while something changes.
 BATCH = 0.7
-#: Most tables a snapshot lists (newest first).
+#: Most tables a snapshot lists (newest first), and most players online.
 LISTED = 100
+#: Seconds between snapshots while nothing changes (who is online still does).
+REFRESH = 10.0
 #: Seconds after a pairing during which a missing table is created by whoever asks (the
 #: request that paired them normally creates it within milliseconds); later it has expired.
 PAIRING_KEPT = 60.0
@@ -89,7 +95,10 @@ class Lobby:
 
     async def _run(self) -> None:
         while True:
-            await self._dirty.wait()
+            # Players come and go without a change to any table: a snapshot at least every
+            # `REFRESH` seconds keeps the list of who is online current.
+            with contextlib.suppress(TimeoutError):
+                await asyncio.wait_for(self._dirty.wait(), REFRESH)
             self._dirty.clear()
             try:
                 await self._publisher.publish(LOBBY, await self.snapshot())
@@ -111,8 +120,36 @@ class Lobby:
         return TableList(tables=summaries)
 
     async def snapshot(self) -> LobbyMessage:
-        online = await self._storage.online_players(time.time())
-        return LobbyMessage(tables=(await self.tables()).tables, players_online=online)
+        now = time.time()
+        listed = (await self.tables()).tables
+        return LobbyMessage(
+            tables=listed,
+            players_online=await self._storage.online_players(now),
+            online=await self._online(listed, now),
+        )
+
+    async def _online(self, listed: list[TableSummary], now: float) -> list[OnlinePlayer]:
+        """Who is online and what each is doing (at most `LISTED` of them)."""
+        playing = {
+            seat.id: summary.id
+            for summary in listed
+            if summary.status is Status.PLAYING
+            for seat in summary.seats
+            if seat is not None
+        }
+        online = []
+        for player_id in await self._storage.online(now, LISTED):
+            player = await self._storage.get_player(player_id)
+            if player is None:
+                continue
+            if player_id in playing:
+                doing, table = Doing.PLAYING, playing[player_id]
+            elif (await self._storage.quick_status(player_id)).status == "waiting":
+                doing, table = Doing.WAITING, None
+            else:
+                doing, table = Doing.ONLINE, None
+            online.append(OnlinePlayer(player=player, doing=doing, table=table))
+        return online
 
     # ----- quick match ------------------------------------------------------------------
     async def quick(self, player: PlayerInfo, choice: GameChoice) -> QuickStatus:

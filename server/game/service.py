@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from aiohttp import web
 
 from server.game.actor import MatchContext, Matches, new_replica_id
+from server.game.challenges import Challenges
 from server.game.clock import running_clock
 from server.game.expiry import running_expiry
 from server.game.identity import Identity
@@ -34,6 +35,7 @@ LIMITS: dict[str, tuple[float, int]] = {
     "register": (5.0, 200),
     "create": (1.0, 20),
     "quick": (2.0, 20),
+    "challenge": (0.5, 10),
     "chat": (0.5, 1),
     "heartbeat": (2.0, 10),
 }
@@ -47,6 +49,7 @@ class Service:
     identity: Identity
     breaks: Breaks
     lobby: Lobby
+    challenges: Challenges
     matches: Matches
     replay_shots: ReplayShotsCache
     #: Token buckets for what a client can make the server store or send (see LIMITS).
@@ -95,6 +98,7 @@ async def running_service(
         identity=Identity(relay.authority, storage),
         breaks=breaks,
         lobby=lobby,
+        challenges=Challenges(storage, publisher, lobby),
         matches=Matches(context),
         replay_shots=ReplayShotsCache(storage, pool),
     )

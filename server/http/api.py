@@ -31,6 +31,10 @@ from server.protocol.models import (
     ApiError,
     BotList,
     BreakEntry,
+    Challenge,
+    ChallengeCreate,
+    ChallengeList,
+    ChallengeStatus,
     ChatMessage,
     ClaimRequest,
     ClaimVerdict,
@@ -62,6 +66,7 @@ GAME = f"{{game:{'|'.join(ids.GAMES)}}}"
 NAME = f"{{name:{ids.NAME_CORE}}}"
 PLAYER_ID = f"{{player:{ids.PLAYER_ID_CORE}}}"
 REPLAY_ID = f"{{replay:{ids.REPLAY_ID_CORE}}}"
+CHALLENGE_ID = f"{{challenge:{ids.CHALLENGE_ID_CORE}}}"
 
 M = TypeVar("M", bound=BaseModel)
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
@@ -325,6 +330,31 @@ async def quick_cancel(request: web.Request) -> web.Response:
     return answer(QuickStatus(status="cancelled" if cancelled else "idle"))
 
 
+# ----- challenges -----------------------------------------------------------------------------
+async def challenge(request: web.Request) -> web.Response:
+    player = await player_of(request)
+    body = await parse(request, ChallengeCreate)
+    service = service_of(request)
+    service.throttle("challenge", player.id)
+    return answer(await service.challenges.create(player, body), 201)
+
+
+async def challenges(request: web.Request) -> web.Response:
+    player = await player_of(request)
+    return answer(await service_of(request).challenges.pending(player))
+
+
+def _answer_challenge(to: ChallengeStatus) -> Handler:
+    async def handler(request: web.Request) -> web.Response:
+        player = await player_of(request)
+        settled = await service_of(request).challenges.answer(
+            player, request.match_info["challenge"], to
+        )
+        return answer(settled)
+
+    return handler
+
+
 _TABLE_REFUSALS = (ErrorCode.NOT_FOUND, ErrorCode.FORBIDDEN, ErrorCode.WRONG_PHASE)
 _T = f"/api/tables/{TABLE_ID}"
 ROUTES: tuple[Route, ...] = (
@@ -381,6 +411,19 @@ ROUTES: tuple[Route, ...] = (
           refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/quick", quick_status, "Where my quick match stands", {200: QuickStatus}),
     Route("DELETE", "/api/quick", quick_cancel, "Stop waiting", {200: QuickStatus}),
+    Route("POST", "/api/challenges", challenge, "Challenge a player", {201: Challenge},
+          ChallengeCreate, refusals=(ErrorCode.NOT_FOUND, ErrorCode.ILLEGAL_INPUT,
+                                     ErrorCode.RATE_LIMITED)),
+    Route("GET", "/api/challenges", challenges, "My pending challenges (and I am here)",
+          {200: ChallengeList}),
+    *(
+        Route("POST", f"/api/challenges/{CHALLENGE_ID}/{verb}", _answer_challenge(to),
+              f"{verb.capitalize()} a challenge", {200: Challenge},
+              refusals=(ErrorCode.NOT_FOUND, ErrorCode.FORBIDDEN, ErrorCode.WRONG_PHASE))
+        for verb, to in (("accept", ChallengeStatus.ACCEPTED),
+                         ("decline", ChallengeStatus.DECLINED),
+                         ("cancel", ChallengeStatus.CANCELLED))
+    ),
 )  # fmt: skip
 
 

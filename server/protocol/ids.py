@@ -79,6 +79,8 @@ TABLE_ID_PATTERN = _whole(TABLE_ID_CORE)
 REPLAY_ID_CORE = r"[0-9a-f]{24}"
 REPLAY_ID_PATTERN = _whole(REPLAY_ID_CORE)
 PLAYER_ID_CORE = r"p_[0-9a-f]{16}"
+PLAYER_ID_PATTERN = _whole(PLAYER_ID_CORE)
+CHALLENGE_ID_CORE = r"c_[0-9a-f]{16}"
 #: A client's shot id. It holds no `:`, so that the server's own inputs (`CLOCK_PREFIX`,
 #: `BOT_PREFIX`) live where no client can write.
 SHOT_ID_CORE = r"[A-Za-z0-9_-]{8,64}"
@@ -98,6 +100,10 @@ def new_table_id() -> str:
 
 def new_player_id() -> str:
     return f"p_{secrets.token_hex(8)}"
+
+
+def new_challenge_id() -> str:
+    return f"c_{secrets.token_hex(8)}"
 
 
 def new_replay_id() -> str:
@@ -135,6 +141,8 @@ PRESENCE_TIMEOUT = 10.0
 #: lapses `QUICK_LAPSE` seconds after its last poll, so a client that died is never paired.
 QUICK_POLL = 5.0
 QUICK_LAPSE = 3 * QUICK_POLL
+#: Challenges a player may have waiting for an answer at once.
+CHALLENGES_PENDING = 5
 #: The shot clock of a quick match (s): no seat of a pairing may hold the match forever.
 QUICK_SHOT_CLOCK = 60
 #: Seconds per shot a table may set (0: no clock).

@@ -517,6 +517,69 @@ class ChatMessage(BaseModel):
     message: QuickText
 
 
+class Doing(StrEnum):
+    PLAYING = "playing"
+    WAITING = "waiting"
+    ONLINE = "online"
+
+
+class OnlinePlayer(BaseModel):
+    """A player online, and what it is doing: playing at a listed table, waiting for a quick
+    match, or neither (on a page: in the lobby, practising in private, watching)."""
+
+    model_config = _ANSWER
+
+    player: PlayerInfo
+    doing: Doing
+    table: TableId | None = Field(default=None, description="where it plays, if listed")
+
+
+class ChallengeStatus(StrEnum):
+    PENDING = "pending"
+    ACCEPTED = "accepted"
+    DECLINED = "declined"
+    CANCELLED = "cancelled"
+    LAPSED = "lapsed"
+
+
+class ChallengeCreate(GameChoice):
+    """Challenge a player to a game with these options."""
+
+    to: Annotated[str, StringConstraints(pattern=ids.PLAYER_ID_PATTERN)]
+    shot_clock: ShotClock = 0
+
+
+class Challenge(BaseModel):
+    """A challenge and where it stands; `table` once accepted."""
+
+    model_config = _ANSWER
+
+    id: str
+    challenger: PlayerInfo
+    challenged: PlayerInfo
+    choice: GameChoice
+    shot_clock: int
+    status: ChallengeStatus
+    table: TableId | None = None
+    created: float
+
+
+class ChallengeList(BaseModel):
+    model_config = _ANSWER
+
+    challenges: list[Challenge] = Field(description="pending, made by or to this player")
+
+
+class ChallengeMessage(BaseModel):
+    """On both players' channels whenever a challenge is made or settled."""
+
+    model_config = _ANSWER
+
+    kind: Literal["challenge"] = "challenge"
+    protocol: int = PROTOCOL
+    challenge: Challenge
+
+
 class LobbyMessage(BaseModel):
     model_config = _ANSWER
 
@@ -524,6 +587,9 @@ class LobbyMessage(BaseModel):
     protocol: int = PROTOCOL
     tables: list[TableSummary]
     players_online: int
+    online: list[OnlinePlayer] = Field(
+        default=[], description="the players online, most recently active first (at most 100)"
+    )
 
 
 class PairedMessage(BaseModel):

@@ -30,7 +30,7 @@ What a backend must guarantee
    record has a `deadline` at or before a time, earliest first.
 7. **Name claims.** `claim_name` gives a name key to one player until a time; it succeeds when
    the key is unclaimed, expired, or already the same player's (then it extends the claim).
-   `online_players` counts unexpired claims.
+   `online_players` counts unexpired claims, and `online` lists their players.
 8. **Heartbeats** are kept per table and seat, outside the versioned record: a heartbeat
    never conflicts with an input.
 9. **Ratings once per match, never lost.** `rate` stores a table's rating changes at most
@@ -63,6 +63,12 @@ What a backend must guarantee
    (False, nothing stored, when it was stored before), atomically with its place in both
    players' histories; `results(player, limit)` lists a player's results newest first, at
    most `limit`. Results are never expired.
+14. **Challenges settle once.** `add_challenge` stores a pending challenge; `settle_challenge`
+   stores it settled (accepted, declined, cancelled or lapsed) only if the stored one is still
+   pending, atomically, and says whether it did: two answers racing on any replicas settle
+   it once. `pending_challenges` lists a player's pending challenges, made or received.
+   `touch_lobby` keeps a player present in the lobby until a time; `in_lobby` says whether it
+   still is.
 """
 
 from __future__ import annotations
@@ -71,6 +77,7 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from enum import StrEnum
 
+from server.game.challenge_record import ChallengeRecord
 from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
@@ -116,6 +123,11 @@ class Storage(ABC):
 
     @abstractmethod
     async def online_players(self, now: float) -> int: ...
+
+    @abstractmethod
+    async def online(self, now: float, limit: int) -> list[str]:
+        """The ids of players whose name claim is unexpired at `now` (invariant 7), the most
+        recently renewed first, at most `limit`."""
 
     # ----- tables -----------------------------------------------------------------------
     @abstractmethod
@@ -207,6 +219,27 @@ class Storage(ABC):
     @abstractmethod
     async def results(self, player_id: str, limit: int) -> list[MatchResult]:
         """A player's decided matches, newest first."""
+
+    # ----- challenges -------------------------------------------------------------------
+    @abstractmethod
+    async def add_challenge(self, challenge: ChallengeRecord) -> None: ...
+
+    @abstractmethod
+    async def get_challenge(self, challenge_id: str) -> ChallengeRecord | None: ...
+
+    @abstractmethod
+    async def settle_challenge(self, challenge: ChallengeRecord) -> bool:
+        """Store `challenge` (settled) if the stored one is pending (invariant 14)."""
+
+    @abstractmethod
+    async def pending_challenges(self, player_id: str) -> list[ChallengeRecord]:
+        """The pending challenges made by or to a player, oldest first."""
+
+    @abstractmethod
+    async def touch_lobby(self, player_id: str, until: float) -> None: ...
+
+    @abstractmethod
+    async def in_lobby(self, player_id: str, now: float) -> bool: ...
 
     # ----- quick match ------------------------------------------------------------------
     @abstractmethod

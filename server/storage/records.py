@@ -24,6 +24,7 @@ from typing import Any, TypeVar
 
 from pydantic import BaseModel
 
+from server.game.challenge_record import ChallengeRecord
 from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
@@ -31,7 +32,7 @@ from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, Repla
 
 STORAGE_VERSION = 3
 #: The digest of the stored types' schemas at `STORAGE_VERSION` (see the module docstring).
-FINGERPRINT = "644e2dc033237d4d"
+FINGERPRINT = "c42066d8cb520127"
 #: The record types storage keeps (and `fingerprint` digests).
 STORED: tuple[type[BaseModel], ...] = (
     TableRecord,
@@ -42,6 +43,7 @@ STORED: tuple[type[BaseModel], ...] = (
     BreakEntry,
     PlayerInfo,
     MatchResult,
+    ChallengeRecord,
 )
 
 Document = dict[str, Any]
@@ -51,7 +53,7 @@ MIGRATIONS: dict[int, Callable[[type[BaseModel], Document], Document]] = {
     1: lambda _kind, document: document,
     # 2 -> 3: tables gained how they `ended`, their racks' `replays` (none known before) and
     # the options `reds` and `target` (the defaults they were played with); match results are
-    # stored; a replay's rack setup may carry snooker's `reds` (15 before).
+    # stored, and challenges; a replay's rack setup may carry snooker's `reds` (15 before).
     2: lambda _kind, document: document,
 }
 

@@ -15,7 +15,9 @@ replica sends it. Keys, all prefixed `game:`:
 - `rp:{id}` replays; `bk` the set of break keys, `be` a hash key -> break, `lb:{game}` a
   sorted set of a game's breaks by score, `lbn:{game}` a hash name -> key of its best break;
 - `q:{game}` the quick-match queues and `qs:{player}` each player's quick-match status;
-- `res:{table}` a decided match's result, `hist:{player}` a sorted set of its tables by time.
+- `res:{table}` a decided match's result, `hist:{player}` a sorted set of its tables by time;
+- `ch:{id}` a challenge (`status`, `doc`), `chp:{player}` the ids of a player's pending ones,
+  `lobby:{player}` (expiring) while the player is present in the lobby.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from __future__ import annotations
 import redis.asyncio as aioredis
 from redis.exceptions import RedisError
 
+from server.game.challenge_record import ChallengeRecord
 from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
@@ -127,6 +130,16 @@ for i = 2, #KEYS do redis.call('ZADD', KEYS[i], ARGV[2], ARGV[3]) end
 return 1
 """
 
+# KEYS: the challenge's hash, each player's pending set. ARGV: the settled document, status,
+# challenge id.
+_SETTLE_CHALLENGE = """
+if redis.call('HGET', KEYS[1], 'status') ~= 'pending' then return 0 end
+redis.call('HSET', KEYS[1], 'status', ARGV[2], 'doc', ARGV[1])
+redis.call('SREM', KEYS[2], ARGV[3])
+redis.call('SREM', KEYS[3], ARGV[3])
+return 1
+"""
+
 # KEYS: caller's status. ARGV: when the wait lapses (unix ms).
 _TOUCH_QUICK = """
 local status = redis.call('GET', KEYS[1])
@@ -196,6 +209,7 @@ class RedisStorage(Storage):
         self._cancel = self._redis.register_script(_CANCEL)
         self._touch_quick = self._redis.register_script(_TOUCH_QUICK)
         self._add_result = self._redis.register_script(_ADD_RESULT)
+        self._settle_challenge = self._redis.register_script(_SETTLE_CHALLENGE)
         self._rate = self._redis.register_script(_RATE)
         self._expire = self._redis.register_script(_EXPIRE)
         self._add_break = self._redis.register_script(_ADD_BREAK)
@@ -228,6 +242,11 @@ class RedisStorage(Storage):
 
     async def online_players(self, now: float) -> int:
         return await self._redis.zcount(f"{P}online", now, "+inf")
+
+    async def online(self, now: float, limit: int) -> list[str]:
+        keys = await self._redis.zrevrangebyscore(f"{P}online", "+inf", now, start=0, num=limit)
+        holders = await self._redis.mget(keys) if keys else []
+        return [holder for holder in holders if holder]  # a claim may lapse meanwhile
 
     # ----- tables -----------------------------------------------------------------------
     def _keys(self, table_id: str) -> list[str]:
@@ -356,6 +375,39 @@ class RedisStorage(Storage):
         tables = await self._redis.zrevrange(f"{P}hist:{player_id}", 0, limit - 1)
         docs = await self._redis.mget([f"{P}res:{table}" for table in tables]) if tables else []
         return [load(MatchResult, doc) for doc in docs if doc]
+
+    async def add_challenge(self, challenge: ChallengeRecord) -> None:
+        async with self._redis.pipeline(transaction=True) as pipe:
+            document = {"status": "pending", "doc": dump(challenge)}
+            pipe.hset(f"{P}ch:{challenge.id}", mapping=document)
+            for player in (challenge.challenger, challenge.challenged):
+                pipe.sadd(f"{P}chp:{player.id}", challenge.id)
+            await pipe.execute()
+
+    async def get_challenge(self, challenge_id: str) -> ChallengeRecord | None:
+        doc = await self._redis.hget(f"{P}ch:{challenge_id}", "doc")
+        return load(ChallengeRecord, doc) if doc else None
+
+    async def settle_challenge(self, challenge: ChallengeRecord) -> bool:
+        keys = [
+            f"{P}ch:{challenge.id}",
+            f"{P}chp:{challenge.challenger.id}",
+            f"{P}chp:{challenge.challenged.id}",
+        ]
+        args = [dump(challenge), challenge.status.value, challenge.id]
+        return bool(await self._settle_challenge(keys=keys, args=args))
+
+    async def pending_challenges(self, player_id: str) -> list[ChallengeRecord]:
+        ids = sorted(await self._redis.smembers(f"{P}chp:{player_id}"))
+        docs = [await self._redis.hget(f"{P}ch:{i}", "doc") for i in ids]
+        found = [load(ChallengeRecord, doc) for doc in docs if doc]
+        return sorted(found, key=lambda c: c.created)
+
+    async def touch_lobby(self, player_id: str, until: float) -> None:
+        await self._redis.set(f"{P}lobby:{player_id}", "1", pxat=int(until * 1000))
+
+    async def in_lobby(self, player_id: str, now: float) -> bool:
+        return bool(await self._redis.exists(f"{P}lobby:{player_id}"))
 
     async def add_replay(self, replay: ReplayView) -> None:
         await self._redis.set(f"{P}rp:{replay.id}", dump(replay))

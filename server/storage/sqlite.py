@@ -33,6 +33,7 @@ from pathlib import Path
 
 import aiosqlite
 
+from server.game.challenge_record import ChallengeRecord
 from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import KEEP_IDLE, InputEntry, TableRecord
@@ -82,6 +83,12 @@ CREATE TABLE IF NOT EXISTS history (
     player TEXT NOT NULL, at REAL NOT NULL, table_id TEXT NOT NULL,
     PRIMARY KEY (player, table_id));
 CREATE INDEX IF NOT EXISTS history_recent ON history (player, at DESC);
+CREATE TABLE IF NOT EXISTS challenges (
+    id TEXT PRIMARY KEY, challenger TEXT NOT NULL, challenged TEXT NOT NULL,
+    status TEXT NOT NULL, created REAL NOT NULL, doc TEXT NOT NULL);
+CREATE INDEX IF NOT EXISTS challenges_made ON challenges (challenger, status);
+CREATE INDEX IF NOT EXISTS challenges_received ON challenges (challenged, status);
+CREATE TABLE IF NOT EXISTS lobby (player TEXT PRIMARY KEY, until REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS quick (
     player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL,
     alive REAL NOT NULL DEFAULT 0);
@@ -204,6 +211,12 @@ class SqliteStorage(Storage):
     async def online_players(self, now: float) -> int:
         row = await self._one("SELECT COUNT(*) FROM names WHERE until >= ?", now)
         return row[0] if row else 0
+
+    async def online(self, now: float, limit: int) -> list[str]:
+        rows = await self._rows(
+            "SELECT player FROM names WHERE until >= ? ORDER BY until DESC LIMIT ?", now, limit
+        )
+        return [row[0] for row in rows]
 
     # ----- tables -----------------------------------------------------------------------
     async def create_table(self, record: TableRecord) -> None:
@@ -425,6 +438,47 @@ class SqliteStorage(Storage):
             limit,
         )
         return [load(MatchResult, row[0]) for row in rows]
+
+    # ----- challenges -------------------------------------------------------------------
+    async def add_challenge(self, challenge: ChallengeRecord) -> None:
+        await self._alone(
+            "INSERT INTO challenges VALUES (?, ?, ?, ?, ?, ?)",
+            challenge.id,
+            challenge.challenger.id,
+            challenge.challenged.id,
+            challenge.status.value,
+            challenge.created,
+            dump(challenge),
+        )
+
+    async def get_challenge(self, challenge_id: str) -> ChallengeRecord | None:
+        row = await self._one("SELECT doc FROM challenges WHERE id = ?", challenge_id)
+        return load(ChallengeRecord, row[0]) if row else None
+
+    async def settle_challenge(self, challenge: ChallengeRecord) -> bool:
+        changed = await self._alone(
+            "UPDATE challenges SET status = ?, doc = ? WHERE id = ? AND status = 'pending'",
+            challenge.status.value,
+            dump(challenge),
+            challenge.id,
+        )
+        return changed == 1
+
+    async def pending_challenges(self, player_id: str) -> list[ChallengeRecord]:
+        rows = await self._rows(
+            "SELECT doc FROM challenges WHERE status = 'pending' AND"
+            " (challenger = ? OR challenged = ?) ORDER BY created",
+            player_id,
+            player_id,
+        )
+        return [load(ChallengeRecord, row[0]) for row in rows]
+
+    async def touch_lobby(self, player_id: str, until: float) -> None:
+        await self._alone("INSERT OR REPLACE INTO lobby VALUES (?, ?)", player_id, until)
+
+    async def in_lobby(self, player_id: str, now: float) -> bool:
+        row = await self._one("SELECT until FROM lobby WHERE player = ?", player_id)
+        return row is not None and row[0] >= now
 
     # ----- replays and the leaderboard ---------------------------------------------------
     async def add_replay(self, replay: ReplayView) -> None:

@@ -176,3 +176,25 @@ async def server(start_server: StartServer) -> TestClient:
 
 def service_of(http: TestClient) -> Service:
     return http.server.app[SERVICE_KEY]
+
+
+# ----- deployments: one SQLite server, or two replicas sharing a Redis -----------------------
+Deploy = Callable[..., Awaitable[list[TestClient]]]
+
+
+@pytest.fixture
+def deploy(storage_kind: str, start_server: StartServer, request: pytest.FixtureRequest) -> Deploy:
+    """Start the deployment under test: one SQLite server, or two replicas sharing a Redis."""
+
+    async def start(**settings: Any) -> list[TestClient]:
+        if storage_kind == "sqlite":
+            return [await start_server(**settings)]
+        redis_url = request.getfixturevalue("redis_url")
+        return [await start_server(redis_url=redis_url, **settings) for _ in range(2)]
+
+    return start
+
+
+def on(replicas: list[TestClient], player: Player, n: int) -> Player:
+    """`player` talking to replica n (round robin)."""
+    return Player(http=replicas[n % len(replicas)], info=player.info, token=player.token)

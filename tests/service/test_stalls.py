@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import asyncio
 import time
-from collections.abc import Awaitable, Callable
 from typing import Any
 
 import pytest
@@ -21,28 +20,8 @@ from server.protocol.feed import GAP_TYPE
 from server.protocol.ids import QUICK_SHOT_CLOCK, BotName
 from server.protocol.models import Mode, PlayerInfo, TableCreate
 from server.storage import Storage
-from tests.service.conftest import Player, StartServer, register, service_of, watch
+from tests.service.conftest import Deploy, Player, on, register, service_of, watch
 from tests.service.test_match import picked
-
-Deploy = Callable[..., Awaitable[list[TestClient]]]
-
-
-@pytest.fixture
-def deploy(storage_kind: str, start_server: StartServer, request: pytest.FixtureRequest) -> Deploy:
-    """Start the deployment under test: one SQLite server, or two replicas sharing a Redis."""
-
-    async def start(**settings: Any) -> list[TestClient]:
-        if storage_kind == "sqlite":
-            return [await start_server(**settings)]
-        redis_url = request.getfixturevalue("redis_url")
-        return [await start_server(redis_url=redis_url, **settings) for _ in range(2)]
-
-    return start
-
-
-def on(replicas: list[TestClient], player: Player, n: int) -> Player:
-    """`player` talking to replica n (round robin)."""
-    return Player(http=replicas[n % len(replicas)], info=player.info, token=player.token)
 
 
 async def seated(replicas: list[TestClient], **options: Any) -> tuple[Player, Player, dict]:
