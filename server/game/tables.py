@@ -111,7 +111,7 @@ class TableRecord(BaseModel):
 
 
 def bot_player(bot: BotName) -> PlayerInfo:
-    return PlayerInfo(id=f"bot:{bot.value}", name=f"Bot: {BOT_LEVELS[bot][1]}")
+    return PlayerInfo(id=f"bot:{bot.value}", name=f"{BOT_LEVELS[bot][1]} bot")
 
 
 def is_bot(player: PlayerInfo) -> bool:

@@ -34,12 +34,13 @@ class BotName(StrEnum):
     LEVEL_5 = "bot:5"
 
 
-#: Each bot's level (0: the shot picker, which never searches) and its name in words.
+#: Each bot's level (0: the simple shot picker, which never searches) and its name in words
+#: ("Club": the club bot).
 BOT_LEVELS: dict[BotName, tuple[int, str]] = {
-    BotName.PICKER: (0, "Ghost-ball aimer"),
+    BotName.PICKER: (0, "Simple"),
     BotName.LEVEL_1: (1, "Beginner"),
     BotName.LEVEL_2: (2, "Casual"),
-    BotName.LEVEL_3: (3, "Club player"),
+    BotName.LEVEL_3: (3, "Club"),
     BotName.LEVEL_4: (4, "Strong"),
     BotName.LEVEL_5: (5, "Strongest"),
 }

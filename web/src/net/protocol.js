@@ -2,7 +2,7 @@
 // do not edit; change the Python module and run the command again.
 export const PROTOCOL = 1;
 export const GAMES = ["nineball", "eightball", "snooker", "three_cushion"];
-export const BOTS = {"picker": {"level": 0, "name": "Ghost-ball aimer"}, "bot:1": {"level": 1, "name": "Beginner"}, "bot:2": {"level": 2, "name": "Casual"}, "bot:3": {"level": 3, "name": "Club player"}, "bot:4": {"level": 4, "name": "Strong"}, "bot:5": {"level": 5, "name": "Strongest"}};
+export const BOTS = {"picker": {"level": 0, "name": "Simple"}, "bot:1": {"level": 1, "name": "Beginner"}, "bot:2": {"level": 2, "name": "Casual"}, "bot:3": {"level": 3, "name": "Club"}, "bot:4": {"level": 4, "name": "Strong"}, "bot:5": {"level": 5, "name": "Strongest"}};
 export const QUICK_MESSAGES = ["good_shot", "good_game", "nice_try", "well_played", "thanks", "oops", "hello", "bye"];
 export const ERROR_CODES = ["bad_request", "body_too_large", "unsupported_media_type", "unauthorized", "forbidden", "not_found", "name_taken", "table_full", "already_seated", "not_your_turn", "stale_version", "wrong_phase", "illegal_input", "claim_mismatch", "duplicate", "rate_limited", "unavailable"];
 export const NAME_PATTERN = /^[A-Za-z0-9_.\-](?:[A-Za-z0-9_. \-]*[A-Za-z0-9_.\-])?$/;
