@@ -17,6 +17,7 @@ REGISTRARS = (
     "server.play_cli",
     "rules.cli",
     "physics.diagrams_cli",
+    "physics.fit_cli",
 )
 
 
