@@ -82,6 +82,11 @@ class Problem:
         weights = {k: 1.0 if k == rec.cue else OTHERS_WEIGHT for k in rec.tracks}
         return cls(rec, scene, 0, weights)
 
+    @property
+    def samples(self) -> int:
+        """How many residuals: two per recorded sample."""
+        return 2 * sum(len(tr.t) for tr in self.rec.tracks.values())
+
     def simulate(self, x: np.ndarray) -> dict[str, np.ndarray] | None:
         """Each ball's simulated positions at its recorded sample times (engine frame, m),
         for the strike vector x = (heading, speed, a, b, t0); None if the engine gave up."""
@@ -104,6 +109,25 @@ class Problem:
             d = np.full(tr.xy.shape, FAILED) if sim is None else (sim[k] - tr.xy) * SCALE
             out.append(self.weights[k] * d.ravel())
         return np.concatenate(out)
+
+    def refine(self, x: np.ndarray, max_nfev: int) -> tuple[np.ndarray, float]:
+        """A local least-squares fit from strike x (heading within 30 degrees of x's, the
+        strike before the cue ball's second sample); the strike and its sum of squares."""
+        from scipy.optimize import least_squares
+
+        t = self.rec.tracks[self.rec.cue].t
+        t_first = max(float(t[min(1, len(t) - 1)]), 1e-3)
+        lower = [x[0] - 30, 0.05, -MISCUE_LIMIT, -MISCUE_LIMIT, 0.0]
+        upper = [x[0] + 30, MAX_SPEED, MISCUE_LIMIT, MISCUE_LIMIT, t_first]
+        res = least_squares(
+            self.residuals,
+            np.clip(x, lower, upper),
+            bounds=(lower, upper),
+            x_scale=np.array([0.2, 0.05, 0.05, 0.05, 0.005]),
+            diff_step=1e-4,
+            max_nfev=max_nfev,
+        )
+        return res.x, 2 * float(res.cost)
 
     def rmse_cm(self, x: np.ndarray) -> tuple[float, float]:
         """Cue-ball and all-balls RMSE (cm, recorded units) of strike x."""
@@ -183,8 +207,6 @@ def fit_shot(
 ) -> Fitted:
     """The strike that best reproduces `rec`: the best of `STARTS` around the kinematic
     guess, refined by least squares."""
-    from scipy.optimize import least_squares
-
     began = time.process_time()
     problem = Problem.build(rec, constants, models)
     params = problem.scene.params
@@ -199,22 +221,11 @@ def fit_shot(
     ]
     costs = [float(np.sum(problem.residuals(x) ** 2)) for x in starts]
     order = sorted(range(len(starts)), key=lambda i: (costs[i], i))[:REFINED]
-    t_first = float(rec.tracks[rec.cue].t[min(1, len(rec.tracks[rec.cue].t) - 1)])
-    lower = [x0[0] - 30, 0.05, -MISCUE_LIMIT, -MISCUE_LIMIT, 0.0]
-    upper = [x0[0] + 30, MAX_SPEED, MISCUE_LIMIT, MISCUE_LIMIT, max(t_first, 1e-3)]
     best_x, best_cost = starts[order[0]], costs[order[0]]
     for i in order:
-        x = np.clip(starts[i], lower, upper)
-        res = least_squares(
-            problem.residuals,
-            x,
-            bounds=(lower, upper),
-            x_scale=np.array([0.2, 0.05, 0.05, 0.05, 0.005]),
-            diff_step=1e-4,
-            max_nfev=max_nfev,
-        )
-        if 2 * res.cost < best_cost:
-            best_x, best_cost = res.x, 2 * res.cost
+        x, cost = problem.refine(starts[i], max_nfev)
+        if cost < best_cost:
+            best_x, best_cost = x, cost
     rmse, rmse_all = problem.rmse_cm(best_x)
     heading, speed, a, b, t0 = (float(v) for v in best_x)
     a, b = _on_cue_tip(a, b)

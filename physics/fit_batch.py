@@ -12,7 +12,7 @@ import os
 import sys
 import time
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from multiprocessing import get_context
 from typing import Any
 
@@ -34,31 +34,34 @@ def stderr_progress(done: int, total: int, f: Fitted) -> None:
     )
 
 
+def process_pool(workers: int | None = None) -> ProcessPoolExecutor:
+    """Worker processes (every core by default), started by spawn as physics.batch's are."""
+    return ProcessPoolExecutor(workers or os.cpu_count() or 1, mp_context=get_context("spawn"))
+
+
 def fit_all(
     recs: Sequence[Recording],
     constants: dict[str, float],
     models: dict[str, Any],
-    workers: int | None = None,
+    pool: Executor | None = None,
     progress: Progress | None = None,
     max_nfev: int = MAX_NFEV,
 ) -> list[Fitted]:
-    """Every recording's fit, in the order given (one process when workers is 1)."""
-    workers = workers or os.cpu_count() or 1
+    """Every recording's fit, in the order given (in this process when pool is None)."""
     out: dict[int, Fitted] = {}
-    if workers == 1 or len(recs) == 1:
+    if pool is None:
         for k, rec in enumerate(recs):
             out[k] = fit_shot(rec, constants, models, max_nfev)
             if progress:
                 progress(k + 1, len(recs), out[k])
         return [out[k] for k in range(len(recs))]
-    with ProcessPoolExecutor(workers, mp_context=get_context("spawn")) as pool:
-        futures = {
-            pool.submit(fit_shot, rec, constants, models, max_nfev): k for k, rec in enumerate(recs)
-        }
-        for future in as_completed(futures):
-            out[futures[future]] = future.result()
-            if progress:
-                progress(len(out), len(recs), out[futures[future]])
+    futures = {
+        pool.submit(fit_shot, rec, constants, models, max_nfev): k for k, rec in enumerate(recs)
+    }
+    for future in as_completed(futures):
+        out[futures[future]] = future.result()
+        if progress:
+            progress(len(out), len(recs), out[futures[future]])
     return [out[k] for k in range(len(recs))]
 
 
@@ -85,10 +88,10 @@ def timed_fit(
     recs: Sequence[Recording],
     constants: dict[str, float],
     models: dict[str, Any],
-    workers: int | None = None,
+    pool: Executor | None = None,
     progress: Progress | None = None,
 ) -> dict[str, Any]:
     """`fit_all` and its `summary`, timed on the wall clock."""
     began = time.perf_counter()
-    fitted = fit_all(recs, constants, models, workers, progress)
+    fitted = fit_all(recs, constants, models, pool, progress)
     return summary(fitted, time.perf_counter() - began)

@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
         print(MISSING, file=sys.stderr)
         return 2
     from physics import ENGINE_VERSION
-    from physics.fit_batch import stderr_progress, timed_fit
+    from physics.fit_batch import process_pool, stderr_progress, timed_fit
     from physics.recorded import load
 
     try:
@@ -84,13 +84,14 @@ def run(args: argparse.Namespace) -> int:
     except (OSError, ValueError, KeyError, TypeError) as exc:
         print(f"billiards fit: {exc}", file=sys.stderr)
         return 2
-    if args.fit_constants:
-        from physics.fit_constants import cross_validate
+    with process_pool(args.workers) as pool:
+        if args.fit_constants:
+            from physics.fit_constants import cross_validate
 
-        report = cross_validate(recs, models, args.folds, args.workers, args.fit_constants)
-    else:
-        report = timed_fit(recs, constants, models, args.workers, stderr_progress)
-        report["constants"] = constants
+            report = cross_validate(recs, models, args.folds, pool, args.fit_constants)
+        else:
+            report = timed_fit(recs, constants, models, pool, stderr_progress)
+            report["constants"] = constants
     report["models"] = models
     report["engine_version"] = ENGINE_VERSION
     if args.json:
