@@ -65,6 +65,13 @@ def to_table(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.column_stack((w / 2 - np.asarray(y) / SCALE, l / 2 + np.asarray(x) / SCALE))
 
 
+def from_table(xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The engine's frame back to the recording's: the inverse of `to_table`."""
+    w, l = THREE_CUSHION.w, THREE_CUSHION.l
+    xy = np.asarray(xy, dtype=float)
+    return (xy[:, 1] - l / 2) * SCALE, (w / 2 - xy[:, 0]) * SCALE
+
+
 def parse(shot: dict) -> Recording:
     """One shot of the recording format; the cue ball is the one whose second sample comes
     first (the ball that moves first)."""
