@@ -45,9 +45,11 @@ TIPS = tuple(
     if math.hypot(a, b) <= MISCUE_LIMIT
 )
 #: How many of the best starts the local fit refines.
-REFINED = 3
+REFINED = 8
 #: Function evaluations (simulations) of each local fit, beyond its Jacobians' own.
-MAX_NFEV = 40
+MAX_NFEV = 80
+#: The constants that are the table's rather than the balls' and cloth's (physics.tables).
+TABLE_KEYS = frozenset({"cushion_height", "w", "l"})
 #: The residual of a sample when the shot could not be simulated (recorded units).
 FAILED = 10.0
 
@@ -65,10 +67,9 @@ class Problem:
     def build(cls, rec: Recording, constants: dict[str, float], models: dict[str, Any]) -> Problem:
         """The problem on the carom table with `constants` (Params fields and the table's
         `cushion_height`) overriding its defaults, validated as a scene's would be."""
-        params = {k: v for k, v in constants.items() if k != "cushion_height"}
+        params = {k: v for k, v in constants.items() if k not in TABLE_KEYS}
         table: dict[str, Any] = {"preset": "three_cushion"}
-        if "cushion_height" in constants:
-            table["cushion_height"] = constants["cushion_height"]
+        table.update((k, v) for k, v in constants.items() if k in TABLE_KEYS)
         R = params.get("R", CAROM.R)
         scene = parse_scene(
             {
