@@ -126,11 +126,11 @@ def main(argv: list[str] | None = None) -> int:
             f"{r['cpu_ms_per_simulation']:7.3f} {f'[{low:+.2f}, {high:+.2f}]':>16s}  "
             f"{'yes' if r['within_noise'] else 'no'}"
         )
-    args.out.mkdir(parents=True, exist_ok=True)
-    print(f"plot: {figure(rows, args.out / 'fit_models.png')}")
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
-        print(f"rows: {args.json}")
+    args.out.mkdir(parents=True, exist_ok=True)
+    png = figure(rows, args.out / "fit_models.png")
+    print(f"plot: {png}" + (f", rows: {args.json}" if args.json else ""))
     return 0
 
 
