@@ -45,9 +45,9 @@ TIPS = tuple(
     if math.hypot(a, b) <= MISCUE_LIMIT
 )
 #: How many of the best starts the local fit refines.
-REFINED = 8
+REFINED = 40
 #: Function evaluations (simulations) of each local fit, beyond its Jacobians' own.
-MAX_NFEV = 80
+MAX_NFEV = 30
 #: The constants that are the table's rather than the balls' and cloth's (physics.tables).
 TABLE_KEYS = frozenset({"cushion_height", "w", "l"})
 #: The residual of a sample when the shot could not be simulated (recorded units).
