@@ -74,6 +74,7 @@ def run(args: argparse.Namespace) -> int:
         print(MISSING, file=sys.stderr)
         return 2
     from physics import ENGINE_VERSION
+    from physics.fit import Problem
     from physics.fit_batch import process_pool, stderr_progress, timed_fit
     from physics.recorded import load
 
@@ -81,6 +82,9 @@ def run(args: argparse.Namespace) -> int:
         models = parse_models(args.models)
         recs = load(args.shots)
         constants = json.loads(args.constants.read_text()) if args.constants else {}
+        if not recs:
+            raise ValueError(f"no shots in {args.shots}")
+        Problem.build(recs[0], constants, models)  # a bad constant or model fails here, once
     except (OSError, ValueError, KeyError, TypeError) as exc:
         print(f"billiards fit: {exc}", file=sys.stderr)
         return 2

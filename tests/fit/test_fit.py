@@ -104,6 +104,13 @@ def test_bad_models_are_refused():
     assert main(["fit", str(SHOTS), "--models", "spin=maybe"]) == 2
 
 
+def test_bad_constants_are_refused(tmp_path, capsys):
+    bad = tmp_path / "constants.json"
+    bad.write_text('{"u_r": 3.0}')
+    assert main(["fit", str(SHOTS), "--constants", str(bad)]) == 2
+    assert "u_r" in capsys.readouterr().err
+
+
 def test_constants_are_fitted_and_held_out(tmp_path, monkeypatch):
     """Two folds of one shot each: each shot is reported with constants fitted on the other,
     and the constants written stay within their bounds."""
