@@ -84,12 +84,13 @@ def figure(rows: list[dict], path: Path) -> Path:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for r in rows:
+    for k, r in enumerate(rows):
         low, high = r["median_interval_cm"]
         err = [[r["median_cm"] - low], [high - r["median_cm"]]]
         ax.errorbar(r["cpu_s_per_shot"], r["median_cm"], yerr=err, fmt="o", capsize=3)
         ax.annotate(r["models"], (r["cpu_s_per_shot"], r["median_cm"]), fontsize=8,
-                    xytext=(5, 5), textcoords="offset points")  # fmt: skip
+                    xytext=(5, 8 - 12 * (k % 3)), textcoords="offset points")  # fmt: skip
+    ax.set_yscale("log")
     ax.set_xlabel("CPU per shot fitted (s)")
     ax.set_ylabel("median cue-ball RMSE (cm, recorded units)")
     ax.set_title("Model choices against a real table: cost and error")
