@@ -14,8 +14,8 @@ setup_python() {
     local stamp="$VENV/.installed-$(sha1sum pyproject.toml | cut -c1-12)"
     if [ ! -f "$stamp" ]; then
         "$VENV/bin/pip" install --quiet --upgrade pip
-        # The diagrams extra too: the tests draw the figures.
-        "$VENV/bin/pip" install --quiet -e ".[test,diagrams]"
+        # The diagrams and fit extras too: the tests draw the figures and fit recorded shots.
+        "$VENV/bin/pip" install --quiet -e ".[test,diagrams,fit]"
         rm -f "$VENV"/.installed-*
         touch "$stamp"
     fi

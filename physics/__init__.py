@@ -21,7 +21,7 @@ from physics.trajectory import Shot
 
 #: Bumped whenever a change to the engine changes the outcome of any shot. A game record or a
 #: leaderboard claim names the version it was played with; another version cannot replay it.
-ENGINE_VERSION = "3"
+ENGINE_VERSION = "4"
 
 __all__ = [
     "ENGINE_VERSION",

@@ -54,5 +54,10 @@ POOL = Params()
 #: Snooker balls (52.5 mm, about 141 g) on napped snooker cloth, which runs a little further.
 SNOOKER = Params(R=0.02625, m=0.1406, u_r=0.008)
 
-#: Carom balls (61.5 mm, 210 g) on heated three-cushion cloth, the fastest of the three.
-CAROM = Params(R=0.03075, m=0.21, u_r=0.007, e_c=0.9)
+#: Carom balls (61.5 mm, 210 g) on heated three-cushion cloth, the fastest of the three. The
+#: cloth, cushion and ball-ball constants (and the table's cushion height) are those fitted to
+#: 91 shots recorded on a real table (`billiards fit --fit-constants`, docs/physics.md,
+#: "Recorded shots"), to three figures.
+CAROM = Params(
+    R=0.03075, m=0.21, u_s=0.211, u_r=0.00547, u_sp=0.0112, e_b=0.953, e_c=0.9, f_c=0.212
+)

@@ -276,8 +276,9 @@ SNOOKER_TABLE = TableSpec(
     jaw_radius=0.03,
 )
 
-#: A match carom table (2.84 x 1.42 m playing surface), no pockets.
-THREE_CUSHION = TableSpec("three_cushion", w=1.42, l=2.84, pockets=False, cushion_height=0.037)
+#: A match carom table (2.84 x 1.42 m playing surface), no pockets; the cushion nose's height
+#: fitted to recorded shots with the carom constants (physics.params.CAROM).
+THREE_CUSHION = TableSpec("three_cushion", w=1.42, l=2.84, pockets=False, cushion_height=0.0366)
 
 #: Each named table with the balls and cloth it is played with.
 PRESETS: dict[str, tuple[TableSpec, Params]] = {

@@ -17,6 +17,7 @@ REGISTRARS = (
     "server.client.play",
     "rules.cli",
     "physics.diagrams_cli",
+    "physics.fit_cli",
 )
 
 
