@@ -14,6 +14,7 @@ exactly the table the engine simulates.
 
 from __future__ import annotations
 
+import mimetypes
 from pathlib import Path
 
 from aiohttp import web
@@ -37,6 +38,8 @@ PAGES: dict[str, str] = {
     "/leaderboard/{game}": "leaderboard.html",
     "/diagrams": "diagrams.html",
 }
+
+mimetypes.add_type("application/manifest+json", ".webmanifest")
 
 #: Files are rebuilt in place, so browsers revalidate (Last-Modified) instead of guessing.
 NO_CACHE = {"Cache-Control": "no-cache"}
@@ -151,6 +154,14 @@ async def static_file(request: web.Request) -> web.StreamResponse:
     return web.FileResponse(path, headers=NO_CACHE)
 
 
+async def service_worker(_: web.Request) -> web.StreamResponse:
+    """`/sw.js`, from the root so that its scope is the whole site (web/src/sw.js)."""
+    path = DIST / "sw.js"
+    if not path.is_file():
+        raise web.HTTPNotFound()
+    return web.FileResponse(path, headers=NO_CACHE)
+
+
 async def short_link(request: web.Request) -> web.StreamResponse:
     """`/t/{id}`, the short private link of docs/protocol.md: the table's page."""
     raise web.HTTPFound(f"/table/{request.match_info['id']}")
@@ -164,5 +175,6 @@ def mount_web(app: web.Application) -> None:
         app.router.add_get(url, page_handler(filename))
     app.router.add_get("/t/{id:[0-9a-f]{1,64}}", short_link)
     app.router.add_get("/static/{path:.+}", static_file)
+    app.router.add_get("/sw.js", service_worker)
     app.router.add_get("/web/tables", tables)
     mount_diagrams(app)
