@@ -28,15 +28,22 @@ from server.storage import Storage
 
 #: (requests per second, burst) per caller for what makes the server store or send something:
 #: new identities per client address, tables, quick-match requests and heartbeats per player,
-#: quick messages per player and table (one per 2 s). Intents need none: only the player to act may
-#: send one, and it waits for the previous outcome.
+#: quick messages per player and table (one per 2 s), leaderboard claims per player (their
+#: worker time is bounded apart, server/game/budget.py). Intents need none: only the player
+#: to act may send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
     "register": (5.0, 200),
     "create": (1.0, 20),
     "quick": (2.0, 20),
     "chat": (0.5, 1),
     "heartbeat": (2.0, 10),
+    "claim": (0.5, 10),
 }
+
+#: How much lower than the server the background worker runs: claims and replays' shots,
+#: which nobody at a table waits on, go to one worker of their own at this priority, so that
+#: a flood of them takes neither the matches' workers nor the CPU their shots want.
+BACKGROUND_NICE = 10
 
 
 @dataclass
@@ -82,9 +89,10 @@ async def running_service(
     """The service, its storage open, worker pool started and lobby publishing, until exit."""
     storage = await open_storage(database, redis_url)
     pool = WorkerPool(workers or default_workers())
+    background = WorkerPool(1, nice=BACKGROUND_NICE)
     publisher = Publisher(relay)
     lobby = Lobby(storage, publisher)
-    breaks = Breaks(storage, pool, publisher)
+    breaks = Breaks(storage, background, publisher)
     context = MatchContext(
         storage, pool, publisher, lobby.changed, new_replica_id(), breaks, grace=grace
     )
@@ -96,7 +104,7 @@ async def running_service(
         breaks=breaks,
         lobby=lobby,
         matches=Matches(context),
-        replay_shots=ReplayShotsCache(storage, pool),
+        replay_shots=ReplayShotsCache(storage, background),
     )
     try:
         async with (
@@ -108,6 +116,7 @@ async def running_service(
             await service.matches.idle()
     finally:
         pool.close()
+        background.close()
         await storage.close()
 
 

@@ -294,8 +294,13 @@ async def best_break(request: web.Request) -> web.Response:
 
 
 async def claim_break(request: web.Request) -> web.Response:
+    """Refused in order of cost: the token, the claim rate, the body; then `Breaks.claim`."""
+    player = await player_of(request)
+    service = service_of(request)
+    service.throttle("claim", player.id)
     claim = await parse(request, ClaimRequest, MAX_RECORD_BODY)
-    return answer(await service_of(request).breaks.claim(claim), 201)
+    address = client_address(request, relay_of(request).trusted_proxies)
+    return answer(await service.breaks.claim(player, address, claim), 201)
 
 
 # ----- quick match ----------------------------------------------------------------------------
@@ -362,9 +367,9 @@ ROUTES: tuple[Route, ...] = (
           "A name's best break in a game", {200: BreakEntry}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
     Route("POST", "/api/leaderboard/claims", claim_break, "Claim a break from a game record",
-          {201: ClaimVerdict}, ClaimRequest, auth=False, max_body=MAX_RECORD_BODY,
+          {201: ClaimVerdict}, ClaimRequest, max_body=MAX_RECORD_BODY,
           refusals=(ErrorCode.ILLEGAL_INPUT, ErrorCode.CLAIM_MISMATCH, ErrorCode.DUPLICATE,
-                    ErrorCode.RATE_LIMITED)),
+                    ErrorCode.RATE_LIMITED, ErrorCode.FORBIDDEN)),
     Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest,
           refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/quick", quick_status, "Where my quick match stands", {200: QuickStatus}),

@@ -362,13 +362,16 @@ class LeaderboardMessage(BaseModel):
 
 
 class ClaimRequest(BaseModel):
-    """A break claimed from a game record (as `billiards selfplay --record` writes one)."""
+    """A break claimed from a game record (as `billiards selfplay --record` writes one), by
+    the player whose token comes with it: the entry carries that player's name."""
 
     model_config = _REQUEST
 
     game: GameName = Field(description="the leaderboard the break is claimed on")
     record: GameRecord
-    name: DisplayName
+    name: DisplayName | None = Field(
+        default=None, description="optional: the claiming player's own name (else refused)"
+    )
     score: json_int(1, 10_000)
 
 
