@@ -139,7 +139,11 @@ def canonical_json(data: bytes) -> str:
 
 
 async def player_of(request: web.Request) -> PlayerInfo:
-    return await service_of(request).identity.authenticate(bearer_token(request))
+    """The player whose token is in the Authorization header (never in the URL: docs)."""
+    token = bearer_token(request, query=False)
+    if token is None:
+        raise ServiceError(ErrorCode.UNAUTHORIZED, "send the token as Authorization: Bearer")
+    return await service_of(request).identity.authenticate(token)
 
 
 async def table_of(request: web.Request) -> TableRecord:

@@ -14,6 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from server.game.tables import GRACE
 from server.http.api import mount_api
+from server.http.logs import one_line_bad_requests
 from server.http.pages import mount_web
 from server.relay import Backend, BackendConfig, MemoryBackend, Relay, RelaySettings, mount_relay
 
@@ -59,6 +60,7 @@ def make_backend(settings: AppSettings) -> Backend:
 def create_app(settings: AppSettings | None = None) -> web.Application:
     """The application, its relay backend created on startup and closed on cleanup."""
     settings = settings or AppSettings()
+    one_line_bad_requests()
     app = web.Application()
     backend = make_backend(settings)
     relay = Relay.build(backend, settings.relay)
