@@ -19,6 +19,7 @@ from aiohttp import web
 from pydantic import BaseModel, ValidationError
 from redis.exceptions import RedisError
 
+from physics.scene import unique_keys
 from server.game import commands, tables
 from server.game.lobby import new_seed
 from server.game.service import SERVICE_KEY, Service, running_service
@@ -129,9 +130,12 @@ def _no_constant(name: str) -> None:
 
 def canonical_json(data: bytes) -> str:
     """The body re-encoded with integral numbers as integers; BAD_REQUEST for what is not
-    JSON (NaN, infinities, invalid text, nesting too deep for a parser)."""
+    JSON (NaN, infinities, invalid text, a key twice in an object, nesting too deep for a
+    parser)."""
     try:
-        value = json.loads(data, parse_float=_number, parse_constant=_no_constant)
+        value = json.loads(
+            data, parse_float=_number, parse_constant=_no_constant, object_pairs_hook=unique_keys
+        )
     except (ValueError, RecursionError) as error:
         reason = "too deeply nested" if isinstance(error, RecursionError) else str(error)
         raise ServiceError(ErrorCode.BAD_REQUEST, f"body is not JSON: {reason}") from None
