@@ -3,8 +3,9 @@
 Tokens are the relay's (`TokenAuthority.issue` / `verify`: one token format for the whole app),
 with the player's id as subject and no publish grants: players never publish on game channels,
 they send intents over HTTP. The display name lives in storage beside the id, so a token stays
-valid across reloads and restarts as long as the signing key does (kept in the SQLite file,
-`storage.sqlite.token_key`, or given to every replica in `BILLIARDS_RELAY_SECRET`).
+valid across reloads and restarts as long as the signing key does (kept in a file only the
+server user reads, server/storage/signing_key.py, or given to every replica in
+`BILLIARDS_RELAY_SECRET`).
 
 Names are unique among players *online*: a claim on the case-folded name lasts `ONLINE` seconds
 and each authenticated heartbeat renews it; once it lapses the name is free for someone else.

@@ -23,7 +23,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import itertools
-import secrets
 import sqlite3
 import time
 from collections import OrderedDict
@@ -82,17 +81,21 @@ CREATE TABLE IF NOT EXISTS quick (
 """
 
 
-def token_key(path: str | Path) -> str:
-    """The token signing key kept in the database file, created on first use.
-
-    Read once at start-up, before the event loop runs (so plain `sqlite3`): a key that lives
-    with the data survives restarts and backups with it, and so do the players' tokens.
-    """
+def take_legacy_token_key(path: str | Path) -> str | None:
+    """The token signing key an older server kept in the database's `secrets` table, removed
+    from it (server/storage/signing_key.py keeps it now, in a file only its user reads); None
+    if the database or the table is not there. Plain `sqlite3`: it runs once, at start-up."""
+    if not Path(path).exists():
+        return None
     with contextlib.closing(sqlite3.connect(str(path))) as db, db:
-        db.execute("CREATE TABLE IF NOT EXISTS secrets (name TEXT PRIMARY KEY, value TEXT)")
-        db.execute("INSERT OR IGNORE INTO secrets VALUES ('tokens', ?)", (secrets.token_hex(32),))
-        (value,) = db.execute("SELECT value FROM secrets WHERE name = 'tokens'").fetchone()
-    return value
+        found = db.execute("SELECT name FROM sqlite_master WHERE name = 'secrets'").fetchone()
+        if found is None:
+            return None
+        row = db.execute("SELECT value FROM secrets WHERE name = 'tokens'").fetchone()
+        db.execute("DROP TABLE secrets")
+    with contextlib.closing(sqlite3.connect(str(path))) as db:
+        db.execute("VACUUM")  # the dropped key's pages are rewritten, not left in the file
+    return None if row is None else row[0]
 
 
 async def _add_columns(db: aiosqlite.Connection) -> None:
