@@ -27,7 +27,8 @@ class WorkBudget:
     ) -> None:
         self.seconds = seconds
         self._what = what
-        self._clock = clock
+        #: The clock that refills buckets, and that callers time their work with.
+        self.clock = clock
         self._buckets: dict[str, tuple[float, float]] = {}  # holder -> (seconds left, at)
 
     def _left(self, holder: str, now: float) -> float:
@@ -36,7 +37,7 @@ class WorkBudget:
 
     def check(self, *holders: str) -> None:
         """RATE_LIMITED (with the wait) if any of `holders` has spent its worker time."""
-        now = self._clock()
+        now = self.clock()
         for holder in holders:
             left = self._left(holder, now)
             if left <= 0:
@@ -48,7 +49,7 @@ class WorkBudget:
 
     def charge(self, seconds: float, *holders: str) -> None:
         """Take `seconds` of worker time from each of `holders` (it may go below zero)."""
-        now = self._clock()
+        now = self.clock()
         for holder in holders:
             self._buckets[holder] = (self._left(holder, now) - seconds, now)
         if len(self._buckets) > KEPT:

@@ -181,7 +181,7 @@ class Breaks:
             raise ServiceError(ErrorCode.RATE_LIMITED, "claims are being verified: retry soon")
         self._verifying += 1
         self.replayed += 1
-        began = time.monotonic()
+        began = self.budget.clock()
         try:
             verdict: refereeing.Verified | ServiceError = await self._pool.verify(record_json)
         except refereeing.NOT_REPLAYED as error:
@@ -190,7 +190,7 @@ class Breaks:
             verdict = ServiceError(ErrorCode.BAD_REQUEST, f"unreadable record: {error}")
         finally:
             self._verifying -= 1
-            self.budget.charge(time.monotonic() - began, *holders)
+            self.budget.charge(self.budget.clock() - began, *holders)
         self._known[digest] = verdict
         if len(self._known) > KNOWN_RECORDS:
             self._known.popitem(last=False)

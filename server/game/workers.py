@@ -183,8 +183,8 @@ class WorkerPool:
     async def verify(self, record_json: bytes) -> refereeing.Verified:
         return await self._run(refereeing.verify, record_json)
 
-    async def replay_shots(self, replay_id: str, record: GameRecord) -> bytes:
-        return await self._run(replays.shots_json, replay_id, record)
+    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
+        return await self._run(replays.shots_pages, replay_id, record)
 
     def close(self) -> None:
         for worker in self._all:

@@ -285,7 +285,14 @@ async def get_replay(request: web.Request) -> web.Response:
 
 
 async def replay_shots(request: web.Request) -> web.Response:
-    shots = await service_of(request).replay_shots.shots(request.match_info["replay"])
+    """A page of a replay's shots (`?page=`, from 0), computing charged to the asker's address."""
+    text = request.query.get("page", "0")
+    if not (text.isdigit() and text.isascii() and len(text) <= 6):
+        raise ServiceError(ErrorCode.BAD_REQUEST, "page is a number from 0")
+    asker = client_address(request, relay_of(request).trusted_proxies)
+    shots = await service_of(request).replay_shots.shots(
+        request.match_info["replay"], int(text), asker
+    )
     return web.Response(body=shots, content_type=JSON)
 
 
@@ -367,8 +374,10 @@ ROUTES: tuple[Route, ...] = (
     Route("GET", f"/api/replays/{REPLAY_ID}", get_replay, "A rack's replay",
           {200: ReplayView}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", f"/api/replays/{REPLAY_ID}/shots", replay_shots,
-          "Every input of a replay with its outcome and motion", {200: ReplayShots}, auth=False,
-          refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED, ErrorCode.ILLEGAL_INPUT)),
+          "A page of a replay's inputs with their outcomes and motion (?page=)",
+          {200: ReplayShots}, auth=False,
+          refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED, ErrorCode.ILLEGAL_INPUT,
+                    ErrorCode.BAD_REQUEST)),
     Route("GET", f"/api/leaderboard/{GAME}", leaderboard, "A game's highest breaks",
           {200: Leaderboard}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", f"/api/leaderboard/{GAME}/players/{NAME}", best_break,

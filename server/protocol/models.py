@@ -321,12 +321,17 @@ class ReplayShot(BaseModel):
 
 
 class ReplayShots(BaseModel):
-    """Every input of a replay with its outcome, computed by replaying the record."""
+    """A page of a replay's inputs with their outcomes, computed by replaying the record."""
 
     model_config = _ANSWER
 
     id: ReplayId
-    shots: list[ReplayShot] = Field(description="one per input of the record, in order")
+    page: int = Field(default=0, description="this page's number (from 0)")
+    shots: list[ReplayShot] = Field(
+        description="one per input of the record, in order: at most REPLAY_SHOTS_PAGE, those"
+        " from page * REPLAY_SHOTS_PAGE on"
+    )
+    next: int | None = Field(default=None, description="the next page's number; null: the last")
 
 
 class BreakEntry(BaseModel):
