@@ -7,8 +7,10 @@ valid across reloads and restarts as long as the signing key does (kept in a fil
 server user reads, server/storage/signing_key.py, or given to every replica in
 `BILLIARDS_RELAY_SECRET`).
 
-Names are unique among players *online*: a claim on the case-folded name lasts `ONLINE` seconds
-and each authenticated heartbeat renews it; once it lapses the name is free for someone else.
+Names are unique among players *online*: a claim on the name's skeleton (`name_key`: case,
+look-alike characters and separators folded, so `AIice` and `Alice.` are `Alice`) lasts
+`ONLINE` seconds and each authenticated heartbeat renews it; once it lapses the name is free
+for someone else.
 
 Every request of a player carries its token, so the last `KNOWN_TOKENS` tokens that checked out
 are remembered with their player and expiry: a player's next request costs a dictionary look-up
@@ -36,8 +38,26 @@ ONLINE = 300.0
 KNOWN_TOKENS = 4096
 
 
+#: What each allowed character may be read as once case is folded (`ids.NAME_CORE`: letters,
+#: digits, `_-. `): i (capital I looks like l) and digit 1 as l, digit 0 as o, 5 as s, 2 as z,
+#: 8 as b; `rn` reads as `m` and `vv` as `w`. Separators read as nothing: `Alice.` and
+#: `A-lice` are `Alice`. (Folding i with l refuses `Ian` while `lan` is online: a rare
+#: refusal, where the other way lets `AIice` pass for `Alice`.)
+_LOOKALIKES = str.maketrans({"i": "l", "1": "l", "0": "o", "5": "s", "2": "z", "8": "b"})
+_SEPARATORS = str.maketrans("", "", "_-. ")
+_DIGRAPHS = (("rn", "m"), ("vv", "w"))
+
+
 def name_key(name: str) -> str:
-    return name.casefold()
+    """The skeleton of a display name: names with the same skeleton read the same, so only
+    one of them may be online at a time (`AIice`, `A1ice`, `alice` and `Alice.` are `Alice`).
+
+    A confusables skeleton in the spirit of Unicode TR39, for the few characters a name may
+    hold: look-alike characters mapped to one, case folded, separators dropped."""
+    skeleton = name.casefold().translate(_LOOKALIKES).translate(_SEPARATORS)
+    for pair, single in _DIGRAPHS:
+        skeleton = skeleton.replace(pair, single)
+    return skeleton
 
 
 class Identity:

@@ -15,7 +15,7 @@ from aiohttp import web
 from server.game.actor import MatchContext, Matches, new_replica_id
 from server.game.clock import running_clock
 from server.game.expiry import running_expiry
-from server.game.identity import Identity
+from server.game.identity import ONLINE, Identity
 from server.game.leaderboard import Breaks
 from server.game.lobby import Lobby
 from server.game.publisher import Publisher
@@ -26,13 +26,19 @@ from server.protocol.errors import ErrorCode, ServiceError
 from server.relay import RateLimiter, Relay
 from server.storage import Storage
 
+#: Names one client address may hold: new identities per address are limited to this many
+#: at once and as many again per `ONLINE` seconds, the time an unused name stays held (so an
+#: address holds at most about this many names; before: some 1,500). `billiards serve
+#: --names-per-address` sets it (a network behind one NAT address may need more).
+NAMES_PER_ADDRESS = 50
+
 #: (requests per second, burst) per caller for what makes the server store or send something:
-#: new identities per client address, tables, quick-match requests and heartbeats per player,
-#: quick messages per player and table (one per 2 s), leaderboard claims per player (their
-#: worker time is bounded apart, server/game/budget.py). Intents need none: only the player
-#: to act may send one, and it waits for the previous outcome.
+#: new identities per client address (`NAMES_PER_ADDRESS`), tables, quick-match requests and
+#: heartbeats per player, quick messages per player and table (one per 2 s), leaderboard
+#: claims per player (their worker time is bounded apart, server/game/budget.py). Intents need
+#: none: only the player to act may send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
-    "register": (5.0, 200),
+    "register": (NAMES_PER_ADDRESS / ONLINE, NAMES_PER_ADDRESS),
     "create": (1.0, 20),
     "quick": (2.0, 20),
     "chat": (0.5, 1),
@@ -85,6 +91,7 @@ async def running_service(
     redis_url: str | None,
     workers: int | None,
     grace: float = GRACE,
+    names_per_address: int = NAMES_PER_ADDRESS,
 ) -> AsyncIterator[Service]:
     """The service, its storage open, worker pool started and lobby publishing, until exit."""
     storage = await open_storage(database, redis_url)
@@ -106,6 +113,7 @@ async def running_service(
         matches=Matches(context),
         replay_shots=ReplayShotsCache(storage, background),
     )
+    service.limits["register"] = RateLimiter(names_per_address / ONLINE, names_per_address)
     try:
         async with (
             lobby.running(),

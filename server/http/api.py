@@ -22,7 +22,7 @@ from redis.exceptions import RedisError
 from physics.scene import unique_keys
 from server.game import commands, tables
 from server.game.lobby import new_seed
-from server.game.service import SERVICE_KEY, Service, running_service
+from server.game.service import NAMES_PER_ADDRESS, SERVICE_KEY, Service, running_service
 from server.game.tables import GRACE, TableRecord
 from server.protocol import ids
 from server.protocol.errors import ErrorCode, ServiceError
@@ -432,6 +432,7 @@ def mount_api(
     redis_url: str | None,
     workers: int | None,
     grace: float = GRACE,
+    names_per_address: int = NAMES_PER_ADDRESS,
 ) -> None:
     """Add the `/api/` routes, their error handling and the service's lifetime to `app`."""
     app.middlewares.append(api_errors)
@@ -440,7 +441,9 @@ def mount_api(
     app.router.add_get("/api/openapi.json", _openapi)
 
     async def lifetime(app: web.Application) -> AsyncIterator[None]:
-        async with running_service(relay, database, redis_url, workers, grace) as service:
+        async with running_service(
+            relay, database, redis_url, workers, grace, names_per_address
+        ) as service:
             app[SERVICE_KEY] = service
             yield
 

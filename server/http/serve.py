@@ -49,9 +49,13 @@ def _serve(args: argparse.Namespace) -> int:
         trusted_proxies=args.trusted_proxy,
         max_connections_per_address=args.max_connections_per_address,
     )
-    grace = {} if args.grace is None else {"grace": args.grace}
+    optional = {"grace": args.grace, "names_per_address": args.names_per_address}
     settings = AppSettings(
-        relay=relay, redis_url=args.redis, database=args.db, workers=args.workers, **grace
+        relay=relay,
+        redis_url=args.redis,
+        database=args.db,
+        workers=args.workers,
+        **{name: value for name, value in optional.items() if value is not None},
     )
     app = create_app(settings)
     collector.install(app)
@@ -85,6 +89,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="SECONDS",
         help="how long a disconnected player may stay away before the opponent may claim the "
         "win (default: server.game.tables.GRACE)",
+    )
+    parser.add_argument(
+        "--names-per-address",
+        type=int,
+        metavar="N",
+        help="guest names one client address may hold (default: server.game.service."
+        "NAMES_PER_ADDRESS)",
     )
     parser.add_argument(
         "--trusted-proxy",
