@@ -19,6 +19,7 @@ import asyncio
 import logging
 import secrets
 import time
+from collections import Counter
 from contextlib import AbstractAsyncContextManager
 
 from server.game import tables
@@ -32,6 +33,7 @@ from server.protocol.models import (
     PairedMessage,
     PlayerInfo,
     QuickStatus,
+    Status,
     TableCreate,
     TableList,
     TableSummary,
@@ -44,6 +46,10 @@ log = logging.getLogger(__name__)
 BATCH = 0.7
 #: Most tables a snapshot lists (newest first).
 LISTED = 100
+#: Open public tables (waiting for an opponent) one player may have at once, and show.
+OPEN_PER_PLAYER = 3
+#: Listed tables read to choose a snapshot's: enough that floods cannot hide the others'.
+SCANNED = 4 * LISTED
 #: Seconds after a pairing during which a missing table is created by whoever asks (the
 #: request that paired them normally creates it within milliseconds); later it has expired.
 PAIRING_KEPT = 60.0
@@ -51,6 +57,30 @@ PAIRING_KEPT = 60.0
 
 def new_seed() -> int:
     return secrets.randbelow(2**62)
+
+
+def creator(record: TableRecord) -> str | None:
+    """The player waiting at an open table (None for a table that is not open)."""
+    if record.status is not Status.OPEN:
+        return None
+    return next((seat.id for seat in record.seats if seat is not None), None)
+
+
+def fair_share(listed: list[TableRecord]) -> list[TableRecord]:
+    """The tables a snapshot shows: the newest first, at most `LISTED`, and of one player's
+    open tables at most `OPEN_PER_PLAYER` (the newest), so that nobody's tables push the
+    others' out of the lobby."""
+    shown: list[TableRecord] = []
+    open_tables: Counter[str] = Counter()
+    for record in listed:
+        if (who := creator(record)) is not None:
+            open_tables[who] += 1
+            if open_tables[who] > OPEN_PER_PLAYER:
+                continue
+        shown.append(record)
+        if len(shown) == LISTED:
+            break
+    return shown
 
 
 class Lobby:
@@ -84,7 +114,7 @@ class Lobby:
         return max(0, readers - seated)
 
     async def tables(self) -> TableList:
-        listed = await self._storage.listed_tables(LISTED)
+        listed = fair_share(await self._storage.listed_tables(SCANNED))
         summaries: list[TableSummary] = [
             tables.summary(record, await self.spectators(record)) for record in listed
         ]
@@ -93,6 +123,16 @@ class Lobby:
     async def snapshot(self) -> LobbyMessage:
         online = await self._storage.online_players(time.time())
         return LobbyMessage(tables=(await self.tables()).tables, players_online=online)
+
+    async def check_open_tables(self, player: PlayerInfo) -> None:
+        """TOO_MANY_TABLES if `player` already has `OPEN_PER_PLAYER` open public tables (among
+        the newest `SCANNED` listed: an older one would not be shown anyway)."""
+        listed = await self._storage.listed_tables(SCANNED)
+        if sum(creator(record) == player.id for record in listed) >= OPEN_PER_PLAYER:
+            raise ServiceError(
+                ErrorCode.TOO_MANY_TABLES,
+                f"you have {OPEN_PER_PLAYER} open tables: cancel one or wait for an opponent",
+            )
 
     # ----- quick match ------------------------------------------------------------------
     async def quick(self, player: PlayerInfo, create: TableCreate) -> QuickStatus:

@@ -37,6 +37,7 @@ from server.protocol.models import (
     IntentAccepted,
     IntentDuplicate,
     Leaderboard,
+    Mode,
     PlayerCreate,
     PlayerInfo,
     PlayerRatings,
@@ -195,6 +196,8 @@ async def create_table(request: web.Request) -> web.Response:
     create = await parse(request, TableCreate)
     service = service_of(request)
     service.throttle("create", player.id)
+    if create.mode is Mode.MATCH and not create.private:
+        await service.lobby.check_open_tables(player)
     record = tables.new_table(new_table_id(), create, player, new_seed())
     await service.storage.create_table(record)
     service.lobby.changed()
@@ -348,7 +351,7 @@ ROUTES: tuple[Route, ...] = (
           "A player's rating in each game", {200: PlayerRatings}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
     Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate,
-          refusals=(ErrorCode.RATE_LIMITED,)),
+          refusals=(ErrorCode.RATE_LIMITED, ErrorCode.TOO_MANY_TABLES)),
     Route("GET", "/api/tables", list_tables, "Open and live public tables", {200: TableList},
           auth=False),
     Route("GET", _T, get_table, "A table's full state (resync)", {200: TableView}, auth=False,
