@@ -34,6 +34,10 @@ from server.storage import Storage
 TOKEN_TTL = 30 * 24 * 3600
 #: How long a name stays reserved after its player's last sign of life (s).
 ONLINE = 300.0
+#: How long a guest who never played a rated match is kept after its last sign of life (s):
+#: then its player is deleted (storage invariant 13, server/game/expiry.py) and its token
+#: names no player (401: the client registers again).
+GUEST_KEPT = 24 * 3600.0
 #: Genuine tokens remembered with their player (least recently used forgotten first).
 KNOWN_TOKENS = 4096
 
@@ -75,7 +79,7 @@ class Identity:
         now = time.time()
         if not await self._storage.claim_name(name_key(name), player.id, now + ONLINE, now):
             raise ServiceError(ErrorCode.NAME_TAKEN, f"the name {name!r} is in use")
-        await self._storage.add_player(player)
+        await self._storage.add_player(player, now)
         token = self._authority.issue(player.id, [], TOKEN_TTL, name=player.name)
         return PlayerToken(player=player, token=token, expires_at=int(now + TOKEN_TTL))
 

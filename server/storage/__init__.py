@@ -58,6 +58,12 @@ What a backend must guarantee
    table, and returns their ids; a table changed since keeps its new expiry. Replays, breaks
    and ratings are never expired. So the live store holds the tables of the last
    `KEEP_FINISHED` / `KEEP_IDLE` seconds, not every table ever played.
+13. **Unused guests expire.** A player's last sign of life is its `add_player` or its latest
+   successful `claim_name` (registering, and every heartbeat, claims its name).
+   `expire_players(before, limit)` deletes at most `limit` players whose last sign of life is
+   before `before` and who have no rating, earliest first, and returns their ids; a player
+   with a rating is never deleted. So players are not kept for ever: a guest who never played
+   a rated match is gone some time after it was last seen (server/game/expiry.py).
 """
 
 from __future__ import annotations
@@ -100,7 +106,8 @@ class Storage(ABC):
 
     # ----- players ----------------------------------------------------------------------
     @abstractmethod
-    async def add_player(self, player: PlayerInfo) -> None: ...
+    async def add_player(self, player: PlayerInfo, now: float) -> None:
+        """Store a player, last seen `now` (invariant 13)."""
 
     @abstractmethod
     async def get_player(self, player_id: str) -> PlayerInfo | None: ...
@@ -110,6 +117,10 @@ class Storage(ABC):
 
     @abstractmethod
     async def online_players(self, now: float) -> int: ...
+
+    @abstractmethod
+    async def expire_players(self, before: float, limit: int) -> list[str]:
+        """Delete up to `limit` unrated players last seen before `before` (invariant 13)."""
 
     # ----- tables -----------------------------------------------------------------------
     @abstractmethod

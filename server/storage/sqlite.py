@@ -51,7 +51,7 @@ CACHED_TABLES = 1024
 #: (its trajectory is most of a record's bytes) changes once per shot, the document twice.
 _DOC = {"last_outcome"}
 SCHEMA = """
-CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL, seen REAL);
 CREATE TABLE IF NOT EXISTS names (key TEXT PRIMARY KEY, player TEXT NOT NULL, until REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS tables (
     id TEXT PRIMARY KEY, version INTEGER NOT NULL, pending TEXT NOT NULL,
@@ -116,6 +116,12 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
             outcome = record.last_outcome and dump(record.last_outcome)
             moved = (dump(record, exclude=_DOC), outcome, table_id)
             await db.execute("UPDATE tables SET doc = ?, outcome = ? WHERE id = ?", moved)
+    async with db.execute("PRAGMA table_info(players)") as cursor:
+        if "seen" not in {row[1] for row in await cursor.fetchall()}:
+            # Players from before invariant 13 are seen now: they expire as if new.
+            await db.execute("ALTER TABLE players ADD COLUMN seen REAL")
+            await db.execute("UPDATE players SET seen = unixepoch()")
+    await db.execute("CREATE INDEX IF NOT EXISTS players_seen ON players (seen)")
     async with db.execute("PRAGMA table_info(quick)") as cursor:
         if "alive" not in {row[1] for row in await cursor.fetchall()}:
             # Requests queued before they could lapse lapse at once (invariant 11).
@@ -178,25 +184,37 @@ class SqliteStorage(Storage):
             self._tables.popitem(last=False)
 
     # ----- players ----------------------------------------------------------------------
-    async def add_player(self, player: PlayerInfo) -> None:
+    async def add_player(self, player: PlayerInfo, now: float) -> None:
         doc = dump(player)
-        await self._alone("INSERT OR REPLACE INTO players VALUES (?, ?)", player.id, doc)
+        await self._alone("INSERT OR REPLACE INTO players VALUES (?, ?, ?)", player.id, doc, now)
 
     async def get_player(self, player_id: str) -> PlayerInfo | None:
         row = await self._one("SELECT doc FROM players WHERE id = ?", player_id)
         return load(PlayerInfo, row[0]) if row else None
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
-        changed = await self._alone(
-            "INSERT INTO names VALUES (?, ?, ?) ON CONFLICT (key) DO UPDATE SET "
-            "player = excluded.player, until = excluded.until "
-            "WHERE names.player = excluded.player OR names.until < ?",
-            key,
-            player_id,
-            until,
-            now,
-        )
-        return changed == 1
+        async with self._transaction() as db:
+            claimed = await db.execute(
+                "INSERT INTO names VALUES (?, ?, ?) ON CONFLICT (key) DO UPDATE SET "
+                "player = excluded.player, until = excluded.until "
+                "WHERE names.player = excluded.player OR names.until < ?",
+                (key, player_id, until, now),
+            )
+            if claimed.rowcount != 1:
+                return False
+            await db.execute("UPDATE players SET seen = ? WHERE id = ?", (now, player_id))
+        return True
+
+    async def expire_players(self, before: float, limit: int) -> list[str]:
+        async with self._transaction() as db:
+            rows = await db.execute_fetchall(
+                "SELECT id FROM players WHERE seen < ? AND id NOT IN "
+                "(SELECT player FROM ratings) ORDER BY seen LIMIT ?",
+                (before, limit),
+            )
+            ids = [player_id for (player_id,) in rows]
+            await db.executemany("DELETE FROM players WHERE id = ?", [(i,) for i in ids])
+        return ids
 
     async def online_players(self, now: float) -> int:
         row = await self._one("SELECT COUNT(*) FROM names WHERE until >= ?", now)

@@ -1,0 +1,137 @@
+"""Leaderboard claims under attack: what one hostile holder costs the server and the others.
+
+    .venv/bin/python bench/claim_flood.py [--record FILE] [--seconds 30] [--matches 8]
+
+Starts `billiards serve` as bench/match_load.py does (SQLite, 2 match workers and the
+background worker) and prints three figures of the claim path:
+
+1. **Refusing a duplicate** of a long record (2,000 inputs, bench/long_record.py): the record
+   is claimed once (replayed), then claimed again `REPEATS` times by another player; each
+   repeat's answer time (ms, p50 / p99) and its status.
+2. **Worker CPU one hostile holder can spend per minute**: one token posts, back to back for
+   `--seconds`, claims of distinct cuts of the record (each a new record that needs a
+   replay); the CPU of every process under the server meanwhile (no matches run), scaled to
+   a minute, and the answers by status.
+3. **The other players' shot latency while one holder floods claims**: match_load's
+   matches paced at `--rate` refereed shots per second, alone and then beside the flood of
+   (2) by a fresh holder: accepted -> outcome delivered, p50 / p99 ms.
+
+The clients run in this process and share the machine's cores with the server: the figures
+are noisy; compare the two rows of (3) from one run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import collections
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import aiohttp
+from long_record import long_record
+from match_load import cpu_now, free_port, percentile, run, start_server, wait_ready
+
+from rules.record import GameRecord, replay
+
+REPEATS = 50
+
+
+async def register(session: aiohttp.ClientSession, base: str, name: str) -> dict[str, str]:
+    async with session.post(f"{base}/api/players", json={"name": name}) as response:
+        token = (await response.json())["token"]
+    return {"Authorization": f"Bearer {token}"}
+
+
+async def claim(
+    session: aiohttp.ClientSession, base: str, auth: dict[str, str], record: str, score: int
+) -> int:
+    body = f'{{"game":"three_cushion","record":{record},"score":{score}}}'
+    headers = {**auth, "Content-Type": "application/json"}
+    async with session.post(f"{base}/api/leaderboard/claims", data=body, headers=headers) as r:
+        await r.read()
+        return r.status
+
+
+def cuts(record: GameRecord) -> list[str]:
+    """Records of the game's first n inputs for n from the whole down: each a new record."""
+    steps = replay(record).steps
+    made, current = [], GameRecord.begin(record.setup)
+    for step in steps:
+        current = current.extend(step.action, step.state)
+        made.append(current.to_json())
+    return made[::-1]
+
+
+async def duplicates(base: str, record: str, score: int) -> None:
+    async with aiohttp.ClientSession() as session:
+        first = await claim(session, base, await register(session, base, "First"), record, score)
+        other = await register(session, base, "Second")
+        times, statuses = [], collections.Counter()
+        for _ in range(REPEATS):
+            began = time.perf_counter()
+            statuses[await claim(session, base, other, record, score)] += 1
+            times.append((time.perf_counter() - began) * 1000)
+    print(f"1. first claim: {first}; {REPEATS} repeats by another player: {dict(statuses)}, "
+          f"p50 {percentile(times, 0.5):.1f} ms, p99 {percentile(times, 0.99):.1f} ms")  # fmt: skip
+
+
+async def flood(base: str, records: list[str], seconds: float, name: str) -> collections.Counter:
+    statuses: collections.Counter = collections.Counter()
+    stop = time.perf_counter() + seconds
+    async with aiohttp.ClientSession() as session:
+        auth = await register(session, base, name)
+        for record in records:
+            if time.perf_counter() > stop:
+                break
+            statuses[await claim(session, base, auth, record, 1)] += 1
+            if statuses[429] and statuses[429] % 20 == 0:
+                await asyncio.sleep(0.05)  # a flood, not a spin: 429s come back at once
+    return statuses
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--record", help="a standard three-cushion record (default: made)")
+    parser.add_argument("--seconds", type=float, default=30.0)
+    parser.add_argument("--matches", type=int, default=8)
+    parser.add_argument("--rate", type=float, default=20.0, help="paced shots/s of the matches")
+    args = parser.parse_args()
+    made = long_record(2000) if args.record is None else None
+    record = made or GameRecord.model_validate_json(Path(args.record).read_text())
+    text, best = record.to_json(), max(replay(record).final.best)
+    variants = cuts(record)
+    port = free_port()
+    base = f"http://127.0.0.1:{port}"
+    with tempfile.TemporaryDirectory() as directory:
+        server = start_server(port, 2, directory)
+        try:
+            asyncio.run(wait_ready(base))
+            print(f"record: {len(record.inputs)} inputs, best break {best}")
+            asyncio.run(duplicates(base, text, best))
+            before = cpu_now(server.pid)
+            statuses = asyncio.run(flood(base, variants, args.seconds, "Hostile"))
+            spent = sum(cpu_now(server.pid)[:2]) - sum(before[:2])
+            print(f"2. one holder for {args.seconds:g} s: answers {dict(statuses)}; server CPU "
+                  f"{spent:.1f} s = {spent * 60 / args.seconds:.1f} s per minute")  # fmt: skip
+            alone = asyncio.run(run(base, args.matches, args.seconds, args.rate, server.pid))
+
+            async def beside() -> tuple:
+                matches = run(base, args.matches, args.seconds, args.rate, server.pid)
+                hostile = flood(base, variants[len(variants) // 2 :], args.seconds, "Hostile2")
+                return await asyncio.gather(matches, hostile)
+
+            flooded, _ = asyncio.run(beside())
+            for label, samples in (("alone", alone), ("one holder flooding", flooded)):
+                print(f"3. {label:<20} shots {samples.shots:4d}, player p50 / p99 "
+                      f"{percentile(samples.player_ms, 0.5):6.1f} / "
+                      f"{percentile(samples.player_ms, 0.99):6.1f} ms")  # fmt: skip
+        finally:
+            server.terminate()
+            server.wait(timeout=10)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
