@@ -6,15 +6,16 @@ Starts `billiards serve` as bench/match_load.py does (SQLite, 2 match workers an
 background worker) and prints three figures of the claim path:
 
 1. **Refusing a duplicate** of a long record (2,000 inputs, bench/long_record.py): the record
-   is claimed once (replayed), then claimed again `REPEATS` times by another player; each
+   is claimed once (replayed), then claimed again `REPEATS` times by other players; each
    repeat's answer time (ms, p50 / p99) and its status.
-2. **Worker CPU one hostile holder can spend per minute**: one token posts, back to back for
-   `--seconds`, claims of distinct cuts of the record (each a new record that needs a
-   replay); the CPU of every process under the server meanwhile (no matches run), scaled to
-   a minute, and the answers by status.
 3. **The other players' shot latency while one holder floods claims**: match_load's
-   matches paced at `--rate` refereed shots per second, alone and then beside the flood of
-   (2) by a fresh holder: accepted -> outcome delivered, p50 / p99 ms.
+   matches paced at `--rate` refereed shots per second, alone and then beside a flood: one
+   token posting, back to back for `--seconds`, claims of distinct cuts of the record (each
+   a new record that needs a replay; a refused one is sent again after 10 ms):
+   accepted -> outcome delivered, p50 / p99 ms.
+2. **Worker CPU one hostile holder can spend per minute**: the same flood by another token
+   (from the same address, whose worker time the first flood spent part of), with no
+   matches: the CPU of the processes under the server meanwhile, scaled to a minute.
 
 The clients run in this process and share the machine's cores with the server: the figures
 are noisy; compare the two rows of (3) from one run.
@@ -67,14 +68,18 @@ def cuts(record: GameRecord) -> list[str]:
 
 async def duplicates(base: str, record: str, score: int) -> None:
     async with aiohttp.ClientSession() as session:
+        began = time.perf_counter()
         first = await claim(session, base, await register(session, base, "First"), record, score)
-        other = await register(session, base, "Second")
+        first_ms = (time.perf_counter() - began) * 1000
         times, statuses = [], collections.Counter()
-        for _ in range(REPEATS):
+        for n in range(REPEATS):
+            if n % 10 == 0:  # a player may send 10 claims at once (LIMITS["claim"])
+                other = await register(session, base, f"Second {n // 10}")
             began = time.perf_counter()
             statuses[await claim(session, base, other, record, score)] += 1
             times.append((time.perf_counter() - began) * 1000)
-    print(f"1. first claim: {first}; {REPEATS} repeats by another player: {dict(statuses)}, "
+    print(f"1. first claim: {first} in {first_ms:.0f} ms; {REPEATS} repeats by other players: "
+          f"{dict(statuses)}, "
           f"p50 {percentile(times, 0.5):.1f} ms, p99 {percentile(times, 0.99):.1f} ms")  # fmt: skip
 
 
@@ -83,12 +88,15 @@ async def flood(base: str, records: list[str], seconds: float, name: str) -> col
     stop = time.perf_counter() + seconds
     async with aiohttp.ClientSession() as session:
         auth = await register(session, base, name)
-        for record in records:
-            if time.perf_counter() > stop:
-                break
-            statuses[await claim(session, base, auth, record, 1)] += 1
-            if statuses[429] and statuses[429] % 20 == 0:
-                await asyncio.sleep(0.05)  # a flood, not a spin: 429s come back at once
+        remaining = iter(records)
+        record = next(remaining)
+        while time.perf_counter() < stop:
+            status = await claim(session, base, auth, record, 1)
+            statuses[status] += 1
+            if status == 429:  # refused unread: the same record again (not a spin: a pause)
+                await asyncio.sleep(0.01)
+            else:
+                record = next(remaining)
     return statuses
 
 
@@ -111,23 +119,26 @@ def main() -> None:
             asyncio.run(wait_ready(base))
             print(f"record: {len(record.inputs)} inputs, best break {best}")
             asyncio.run(duplicates(base, text, best))
-            before = cpu_now(server.pid)
-            statuses = asyncio.run(flood(base, variants, args.seconds, "Hostile"))
-            spent = sum(cpu_now(server.pid)[:2]) - sum(before[:2])
-            print(f"2. one holder for {args.seconds:g} s: answers {dict(statuses)}; server CPU "
-                  f"{spent:.1f} s = {spent * 60 / args.seconds:.1f} s per minute")  # fmt: skip
             alone = asyncio.run(run(base, args.matches, args.seconds, args.rate, server.pid))
 
             async def beside() -> tuple:
                 matches = run(base, args.matches, args.seconds, args.rate, server.pid)
-                hostile = flood(base, variants[len(variants) // 2 :], args.seconds, "Hostile2")
+                hostile = flood(base, variants, args.seconds, "Hostile")
                 return await asyncio.gather(matches, hostile)
 
-            flooded, _ = asyncio.run(beside())
+            flooded, statuses = asyncio.run(beside())
             for label, samples in (("alone", alone), ("one holder flooding", flooded)):
                 print(f"3. {label:<20} shots {samples.shots:4d}, player p50 / p99 "
                       f"{percentile(samples.player_ms, 0.5):6.1f} / "
                       f"{percentile(samples.player_ms, 0.99):6.1f} ms")  # fmt: skip
+            print(f"   the flood's answers: {dict(statuses)}")
+            before = cpu_now(server.pid)
+            statuses = asyncio.run(flood(base, variants[300:], args.seconds, "Hostile2"))
+            main, workers, _ = (b - a for a, b in zip(before, cpu_now(server.pid), strict=True))
+            per_minute = 60 / args.seconds
+            print(f"2. one holder for {args.seconds:g} s: answers {dict(statuses)}; worker CPU "
+                  f"{workers:.1f} s = {workers * per_minute:.1f} s per minute (server process "
+                  f"{main * per_minute:.1f} s per minute)")  # fmt: skip
         finally:
             server.terminate()
             server.wait(timeout=10)

@@ -108,7 +108,10 @@ class Lobby:
             await asyncio.sleep(BATCH)
 
     async def spectators(self, record: TableRecord) -> int:
-        """Readers of the table's channel who are not its seated players."""
+        """Readers of the table's channel who are not its seated players: connections, not
+        people (subscribing needs no token, so one holder's sockets cannot be told from
+        several people's; docs/protocol.md says so, and `--max-connections-per-address`
+        bounds what one address adds)."""
         readers = await self._publisher.subscribers(record.channel)
         seated = sum(1 for p in record.seats if p is not None and not tables.is_bot(p))
         return max(0, readers - seated)
