@@ -20,12 +20,14 @@ a record cut after the best visit, extended by an input, or (three-cushion) repl
 another seed is the same break and refused as a duplicate; only the game's standard rack
 counts (a claim whose setup has a rack gap or another three-cushion target is refused).
 
-Claims cost a worker seconds, so the cheap refusals come first: the claim's rate per player
-(`LIMITS["claim"]`, server/game/service.py), its setup, then the verdict of a record replayed
-here before (remembered by its digest: a repeated claim, duplicate or wrong, is refused
-without a replay), and only then a replay, in the background worker (server/game/workers.py),
-at most `MAX_VERIFYING` at once per process and at most `CLAIM_SECONDS` of worker time per
-minute per player and per address (`WorkBudget`).
+Claims cost a worker seconds, so the cheap refusals come first (server/http/api.py,
+`claim_break`, then here): the token; the claim's rate per player (`LIMITS["claim"]`,
+server/game/service.py); the worker time left to the player and to its address (at most
+`CLAIM_SECONDS` per minute each, `WorkBudget`), before the body is read; a body whose very
+bytes were refused before as a duplicate or a mismatch (`refused_before`), before it is
+parsed; the setup; the verdict of a record replayed here before (remembered by its digest:
+a repeated claim, duplicate or wrong, costs no replay); and only then a replay, in the
+background worker (server/game/workers.py), at most `MAX_VERIFYING` at once per process.
 
 What a break is: snooker's points in one visit and three-cushion's run as the referees count
 them, and in nine-ball and eight-ball the balls pocketed in one visit without a foul: each
@@ -86,6 +88,8 @@ class Breaks:
         self.budget = WorkBudget(CLAIM_SECONDS, "your claims")
         #: Records replayed for claims by this process (what the cheap refusals save).
         self.replayed = 0
+        #: Refusals any claimant gets, by the digest of the claim's bytes (`refused_before`).
+        self._refused: OrderedDict[bytes, ServiceError] = OrderedDict()
         #: The verdicts of the last records replayed (by the digest of their JSON).
         self._known: OrderedDict[bytes, refereeing.Verified | ServiceError] = OrderedDict()
 
@@ -137,11 +141,31 @@ class Breaks:
             await self._announce(record.game)
         return replay
 
-    async def claim(self, player: PlayerInfo, address: str, claim: ClaimRequest) -> ClaimVerdict:
+    def refused_before(self, body: bytes) -> None:
+        """Refuse at once a claim whose very bytes were refused as a duplicate or a mismatch
+        (refusals that do not depend on who claims): no parsing, no replay."""
+        known = self._refused.get(hashlib.sha256(body).digest())
+        if known is not None:
+            raise known
+
+    async def claim(
+        self, player: PlayerInfo, address: str, claim: ClaimRequest, body: bytes = b""
+    ) -> ClaimVerdict:
         """Verify a break `player` claims (from `address`); ServiceError says why it is refused.
 
         Cheap refusals come first (module docstring): a setup that is not the game's standard,
-        a holder out of worker time, a record already verified here; only then a replay."""
+        a holder out of worker time, a record already verified here; only then a replay.
+        `body`: the request's bytes, remembered with a refusal that any claimant would get."""
+        try:
+            return await self._claim(player, address, claim)
+        except ServiceError as error:
+            if error.code in (ErrorCode.DUPLICATE, ErrorCode.CLAIM_MISMATCH) and body:
+                self._refused[hashlib.sha256(body).digest()] = error
+                if len(self._refused) > KNOWN_RECORDS:
+                    self._refused.popitem(last=False)
+            raise
+
+    async def _claim(self, player: PlayerInfo, address: str, claim: ClaimRequest) -> ClaimVerdict:
         if claim.name is not None and name_key(claim.name) != name_key(player.name):
             raise ServiceError(
                 ErrorCode.FORBIDDEN, f"a claim is entered under your own name, {player.name!r}"

@@ -98,6 +98,11 @@ def refusal(error: ServiceError) -> web.Response:
 
 async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> M:
     """The request's body as `model`; ServiceError for anything else."""
+    return parse_body(await read_body(request, limit), model)
+
+
+async def read_body(request: web.Request, limit: int = MAX_BODY) -> bytes:
+    """The request's JSON body, at most `limit` bytes; ServiceError for anything else."""
     if media_type(request.content_type) != JSON:
         raise ServiceError(ErrorCode.UNSUPPORTED_MEDIA_TYPE, "send application/json")
     data = bytearray()
@@ -105,8 +110,13 @@ async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> 
         data += chunk
         if len(data) > limit:
             raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies here are at most {limit} bytes")
+    return bytes(data)
+
+
+def parse_body(data: bytes, model: type[M]) -> M:
+    """A JSON body as `model` (strict: module docstring); ServiceError for anything else."""
     try:
-        return model.model_validate_json(canonical_json(bytes(data)), strict=True)
+        return model.model_validate_json(canonical_json(data), strict=True)
     except ValidationError as error:
         first = error.errors()[0]
         where = ".".join(str(part) for part in first["loc"]) or "body"
@@ -312,13 +322,17 @@ async def best_break(request: web.Request) -> web.Response:
 
 
 async def claim_break(request: web.Request) -> web.Response:
-    """Refused in order of cost: the token, the claim rate, the body; then `Breaks.claim`."""
+    """Refused in order of cost: the token, the claim rate, the holder's worker time, a body
+    refused before; then the body is parsed and `Breaks.claim` goes on."""
     player = await player_of(request)
     service = service_of(request)
     service.throttle("claim", player.id)
-    claim = await parse(request, ClaimRequest, MAX_RECORD_BODY)
     address = client_address(request, relay_of(request).trusted_proxies)
-    return answer(await service.breaks.claim(player, address, claim), 201)
+    service.breaks.budget.check(player.id, address)
+    data = await read_body(request, MAX_RECORD_BODY)
+    service.breaks.refused_before(data)
+    claim = parse_body(data, ClaimRequest)
+    return answer(await service.breaks.claim(player, address, claim, data), 201)
 
 
 # ----- quick match ----------------------------------------------------------------------------
