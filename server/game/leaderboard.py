@@ -23,7 +23,8 @@ counts (a claim whose setup has a rack gap or another three-cushion target is re
 Claims cost a worker seconds, so the cheap refusals come first (server/http/api.py,
 `claim_break`, then here): the token; the claim's rate per player (`LIMITS["claim"]`,
 server/game/service.py); the worker time left to the player and to its address (at most
-`CLAIM_SECONDS` per minute each, `WorkBudget`), before the body is read; a body whose very
+`CLAIM_SECONDS` per minute each, `WorkBudget`, charged with the replays and with the time
+parsing the claims took), before the body is read; a body whose very
 bytes were refused before as a duplicate or a mismatch (`refused_before`), before it is
 parsed; the setup; the verdict of a record replayed here before (remembered by its digest:
 a repeated claim, duplicate or wrong, costs no replay); and only then a replay, in the

@@ -12,7 +12,7 @@ from rules.selfplay import selfplay
 from server.client.api_client import from_json
 from server.game import refereeing, visits
 from server.game.budget import WorkBudget
-from tests.service.conftest import Player, register, service_of, watch
+from tests.service.conftest import Player, Ticks, register, service_of, watch
 from tests.service.test_match import picked
 
 
@@ -195,7 +195,8 @@ async def test_repeated_claims_are_refused_without_a_replay(server: TestClient) 
     assert (await _claim(dee, record, best + 1))[:2] == (422, "claim_mismatch")
     assert (await _claim(dee, record, best))[:2] == (409, "duplicate")
     assert breaks.replayed == replayed
-    breaks.budget = WorkBudget(1e-9, "your claims")  # one replay empties a holder's minute
+    # Parsing and replaying each take 1 s on this clock: one replay empties a holder's minute.
+    breaks.budget = WorkBudget(1.5, "your claims", Ticks())
     assert (await _claim(dee, other, other_best + 1))[:2] == (422, "claim_mismatch")
     assert (await _claim(dee, third, third_best))[:2] == (429, "rate_limited")
     assert (await _claim(dee, other, other_best))[:2] == (429, "rate_limited")  # unread

@@ -18,7 +18,7 @@ from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import REPLAY_SHOTS_PAGE
 from server.protocol.models import ReplayView
 from server.storage import Storage
-from tests.service.conftest import register, watch
+from tests.service.conftest import Ticks, register, watch
 from tests.service.test_leaderboard import _record
 from tests.service.test_match import picked
 
@@ -171,17 +171,6 @@ def test_a_long_replay_comes_in_pages_that_name_the_next(monkeypatch: pytest.Mon
     inputs = [shot["input"] for page in pages for shot in page["shots"]]
     played = GameRecord.model_validate(record).inputs
     assert inputs == [action.model_dump(mode="json") for action in played]
-
-
-class Ticks:
-    """A clock that moves one second each time it is read: every computation costs 1 s."""
-
-    def __init__(self) -> None:
-        self.now = 0.0
-
-    def __call__(self) -> float:
-        self.now += 1.0
-        return self.now
 
 
 async def test_an_address_that_spent_its_worker_time_is_refused_before_work(
