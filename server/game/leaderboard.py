@@ -107,7 +107,8 @@ class Breaks:
         record: TableRecord,
         played: list[tuple[PlayerInput, State]],
     ) -> ReplayView:
-        """Store the rack's replay and its players' best breaks (once per rack and seat).
+        """Store the rack's replay and its players' best breaks (each break once: the same
+        visit from the same position, played or claimed before, is not entered again).
 
         played: each input of the rack that was played (void ones left out), with the state it
         led to (the last one's `best` is each player's best break of the rack)."""
