@@ -14,8 +14,10 @@ for someone else.
 
 Every request of a player carries its token, so the last `KNOWN_TOKENS` tokens that checked out
 are remembered with their player and expiry: a player's next request costs a dictionary look-up
-and an expiry check, not an HMAC, a JSON decode and a storage read (players never change or go
-away, and a token's signature stays genuine; only its expiry is checked again, every time).
+and an expiry check, not an HMAC, a JSON decode and a storage read (players never change, and a
+token's signature stays genuine; only its expiry is checked again, every time). Players do go
+away (unused guests expire, `GUEST_KEPT`), so a remembered token is checked in full again
+`RECHECK` seconds after it was: a deleted player's token stops working within that time.
 """
 
 from __future__ import annotations
@@ -38,6 +40,8 @@ ONLINE = 300.0
 #: then its player is deleted (storage invariant 13, server/game/expiry.py) and its token
 #: names no player (401: the client registers again).
 GUEST_KEPT = 24 * 3600.0
+#: Seconds a remembered token is trusted before its player is read from storage again.
+RECHECK = ONLINE
 #: Genuine tokens remembered with their player (least recently used forgotten first).
 KNOWN_TOKENS = 4096
 
@@ -71,7 +75,8 @@ class Identity:
         self._authority = authority
         self._storage = storage
         self._clock = clock
-        self._known: OrderedDict[str, tuple[PlayerInfo, int]] = OrderedDict()
+        #: token -> (its player, its expiry, when to read the player again)
+        self._known: OrderedDict[str, tuple[PlayerInfo, int, float]] = OrderedDict()
 
     async def register(self, name: str) -> PlayerToken:
         """A new player with `name` and its token; NAME_TAKEN if a player online has it."""
@@ -86,13 +91,16 @@ class Identity:
     async def authenticate(self, token: str | None) -> PlayerInfo:
         """The player a genuine, unexpired token names; UNAUTHORIZED otherwise."""
         known = self._known.get(token) if token else None
+        now = self._clock()
         if known is not None:
-            player, expires = known
-            if expires < self._clock():
+            player, expires, recheck = known
+            if expires < now:
                 del self._known[token]
                 raise ServiceError(ErrorCode.UNAUTHORIZED, "token has expired")
-            self._known.move_to_end(token)
-            return player
+            if now < recheck:
+                self._known.move_to_end(token)
+                return player
+            del self._known[token]  # checked in full below (the player may be gone)
         try:
             claims = self._authority.verify(token)
         except AuthError as error:
@@ -100,7 +108,7 @@ class Identity:
         player = await self._storage.get_player(claims.sub)
         if player is None:
             raise ServiceError(ErrorCode.UNAUTHORIZED, "token names no player")
-        self._known[token] = (player, claims.exp)
+        self._known[token] = (player, claims.exp, now + RECHECK)
         if len(self._known) > KNOWN_TOKENS:
             self._known.popitem(last=False)
         return player

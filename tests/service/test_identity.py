@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import time
+
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server.game.identity import TOKEN_TTL, Identity, name_key
+from server.game.identity import GUEST_KEPT, RECHECK, TOKEN_TTL, Identity, name_key
 from server.game.service import NAMES_PER_ADDRESS
 from server.protocol.errors import ErrorCode, ServiceError
 from server.relay.auth import TokenAuthority
@@ -72,3 +74,18 @@ async def test_one_address_holds_a_bounded_number_of_names(server: TestClient) -
         for n in range(NAMES_PER_ADDRESS + 1)
     ]
     assert statuses == [201] * NAMES_PER_ADDRESS + [429]
+
+
+async def test_a_remembered_token_of_an_expired_guest_stops_working(storage: Storage) -> None:
+    """Unused guests are deleted (invariant 13); a token remembered before must not outlive
+    its player by more than RECHECK seconds."""
+    clock = Clock(1_000_000.0)
+    identity = Identity(TokenAuthority(b"k" * 32, "public-", clock), storage, clock)
+    issued = await identity.register("Ada")
+    assert await identity.authenticate(issued.token) == issued.player
+    assert await storage.expire_players(time.time() + GUEST_KEPT + 1, 10) == [issued.player.id]
+    assert await identity.authenticate(issued.token) == issued.player  # remembered a while
+    clock.now += RECHECK + 1
+    with pytest.raises(ServiceError) as refused:
+        await identity.authenticate(issued.token)
+    assert refused.value.code is ErrorCode.UNAUTHORIZED
