@@ -244,17 +244,30 @@ def _one_line(exc: ValidationError) -> str:
     return f"{where}: {_plain(first['msg'], 200)}"
 
 
+def unique_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    """An object's members (`json.loads`' `object_pairs_hook`); ValueError for a key given
+    twice. JSON leaves duplicates undefined and Python keeps the last silently, so a document
+    could say two things and be read as one: every JSON the project reads refuses them."""
+    members: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in members:
+            raise ValueError(f"duplicate key {key!r}")
+        members[key] = value
+    return members
+
+
 def scene_from_json(document: bytes | str) -> dict[str, Any]:
     """Decode a scene document: at most MAX_SCENE_BYTES of UTF-8 JSON holding an object.
 
-    Whatever the bytes (not UTF-8, not JSON, nested past the parser's recursion limit, integers
-    too long to convert, too long a document), the failure is a SceneError.
+    Whatever the bytes (not UTF-8, not JSON, a key twice in an object, nested past the
+    parser's recursion limit, integers too long to convert, too long a document), the failure
+    is a SceneError.
     """
     if len(document) > MAX_SCENE_BYTES:
         raise SceneError(f"a scene document is at most {MAX_SCENE_BYTES} bytes")
     try:
         text = document.decode("utf-8") if isinstance(document, bytes) else document
-        data = json.loads(text)
+        data = json.loads(text, object_pairs_hook=unique_keys)
     except UnicodeDecodeError:
         raise SceneError("a scene document is UTF-8 text") from None
     except RecursionError:

@@ -28,7 +28,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     play = sub.add_parser("selfplay", help="play a whole game between two simple shot pickers")
     play.add_argument("game", choices=[g.value for g in Game])
     play.add_argument("--seed", type=int, default=0, help="rack seed (default 0)")
-    play.add_argument("--gap", type=float, default=0.0002, help="largest gap in the rack (m)")
+    play.add_argument(
+        "--gap",
+        type=float,
+        default=0.0,
+        help="largest gap in the rack (m; default 0, the server's racks: a claim needs it)",
+    )
     play.add_argument("--target", type=int, default=0, help="three-cushion points to win")
     play.add_argument("--max-inputs", type=int, default=400, help="stop after this many inputs")
     play.add_argument("--record", help="write the game record (JSON) to this file")

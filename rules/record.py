@@ -39,7 +39,7 @@ POSITION_STEPS = 1_000_000
 LINK_BYTES, MARK_BYTES = 8, 2
 
 
-def _canonical(state: State) -> Any:
+def hashed_state(state: State) -> Any:
     """The state as plain data for hashing: positions quantised, balls sorted by name."""
     data = state.model_dump(mode="json")
     data["balls"] = [
@@ -47,7 +47,7 @@ def _canonical(state: State) -> Any:
         for b, (x, y) in sorted(state.balls.items())
     ]
     if state.retake is not None:
-        data["retake"] = _canonical(state.retake)
+        data["retake"] = hashed_state(state.retake)
     return data
 
 
@@ -55,7 +55,7 @@ def link(previous: bytes, state: State, action: PlayerInput | None = None) -> by
     """The next chain link: a hash of the previous link, the input and the state it led to
     (the first link, of the start, has no input)."""
     said = None if action is None else action.model_dump(mode="json")
-    packed = msgpack.packb([said, _canonical(state)])
+    packed = msgpack.packb([said, hashed_state(state)])
     return hashlib.blake2b(previous + packed, digest_size=LINK_BYTES).digest()
 
 

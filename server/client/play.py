@@ -8,8 +8,10 @@ and prints each outcome as it arrives, one line each, until the match is over, s
 heartbeats a seated player owes meanwhile. `watch` prints a table's outcomes until it is over.
 Both ride out a connection that drops (server/client/api_client.py reconnects, resumes and resends
 what is safe to resend) and give up after `--patience` seconds without an answer.
-`submit` sends a game record (as `billiards selfplay --record` writes it), a name and the
-claimed score to the leaderboard, and prints the verdict. Exit status 0 on success (for
+`submit` sends a game record (as `billiards selfplay --record` writes it) and the claimed
+score to the leaderboard as a player: the one a token names (`--token` or BILLIARDS_TOKEN),
+or a guest it registers under `--name` (a claim is entered under its player's name, never a
+free one), and prints the verdict. Exit status 0 on success (for
 `play` and `watch`: the match is over), 2 with one line when the server refused something (a
 claim that does not hold says why) or could not be reached.
 """
@@ -18,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import os
 import secrets
 import sys
 from collections.abc import Awaitable, Callable
@@ -163,7 +166,13 @@ async def submit(args: argparse.Namespace) -> int:
         raise Refused(0, "unreadable_record", f"{args.record}: {error}") from None
     async with aiohttp.ClientSession() as session:
         client = GameClient(args.url, session)
-        body = {"game": game, "record": record, "name": args.name, "score": args.score}
+        if args.token:
+            client.token = args.token
+        elif args.name:
+            await client.register(args.name)
+        else:
+            raise Refused(0, "no_player", "give --name (a guest) or --token (BILLIARDS_TOKEN)")
+        body = {"game": game, "record": record, "score": args.score}
         answer = await client.fetch("POST", "/api/leaderboard/claims", body)
     verdict = ClaimVerdict.model_validate_json(answer)
     entry = verdict.entry
@@ -213,7 +222,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser("submit", help="claim a leaderboard break from a record")
     parser.add_argument("url", help="the server, e.g. http://127.0.0.1:8080")
     parser.add_argument("record", help="a game record file (billiards selfplay --record)")
-    parser.add_argument("--name", required=True, help="the name the break goes under")
+    parser.add_argument("--name", help="claim as a new guest of this name")
+    parser.add_argument(
+        "--token",
+        default=os.environ.get("BILLIARDS_TOKEN"),
+        help="claim as the player of this token (default: $BILLIARDS_TOKEN)",
+    )
     parser.add_argument("--score", type=int, required=True, help="the claimed best break")
     parser.add_argument("--game", help="the leaderboard (default: the record's game)")
     parser.set_defaults(func=_run(submit))

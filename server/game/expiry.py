@@ -6,8 +6,11 @@ passed (storage invariant 12: a finished table `tables.KEEP_FINISHED` after its 
 unfinished one nobody changes `tables.KEEP_IDLE`), with their inputs and heartbeats, and then
 deletes their relay channels (buffer and bookkeeping; a subscriber still there is told the
 channel was deleted). What stays for good is in the replay store: every rack's replay (and so
-its record), the breaks and the ratings. A `GET` of an expired table answers 404. Replicas
-may sweep at once: the storage drops each table once, and deleting a channel twice is harmless.
+its record), the breaks and the ratings. The same sweep deletes the guests who were last seen
+`identity.GUEST_KEPT` ago and never played a rated match (invariant 15): a server that anyone
+can register on would otherwise keep every name ever made. A `GET` of an expired table
+answers 404. Replicas may sweep at once: the storage drops each table once, and deleting a
+channel twice is harmless.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ from collections.abc import Callable
 from contextlib import AbstractAsyncContextManager
 
 from server.game.background import running
+from server.game.identity import GUEST_KEPT
 from server.game.publisher import Publisher
 from server.protocol.ids import table_channel
 from server.storage import Storage
@@ -32,7 +36,8 @@ BATCH = 100
 
 
 async def sweep(storage: Storage, publisher: Publisher, now: float) -> list[str]:
-    """Drop every table expired at `now` and its channel; the ids dropped."""
+    """Drop every table expired at `now` and its channel, then the guests unused since
+    `now - GUEST_KEPT`; the ids of the tables dropped."""
     dropped: list[str] = []
     while True:
         ids = await storage.expire_tables(now, BATCH)
@@ -40,7 +45,10 @@ async def sweep(storage: Storage, publisher: Publisher, now: float) -> list[str]
             await publisher.delete(table_channel(table_id))
         dropped += ids
         if len(ids) < BATCH:
-            return dropped
+            break
+    while len(await storage.expire_players(now - GUEST_KEPT, BATCH)) == BATCH:
+        pass
+    return dropped
 
 
 def running_expiry(

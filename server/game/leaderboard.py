@@ -1,14 +1,34 @@
 """The leaderboard of the highest breaks per game, and the verification of claimed breaks.
 
-Breaks enter two ways:
+Breaks enter two ways, and every entry says which (`source`, docs/protocol.md):
 
-- **automatically**, at the end of every rack played on this server (matches, the bot's
-  tables, practice): each seated person's best break of the rack, with the rack's replay;
-- **by claim**: a game record, a name and the claimed score. The server replays the record
-  through its own engine and referees in a worker process and accepts the claim only if the
-  record replays (every input legal and in bounds, the engine version this server runs) and
-  its best break is exactly the claimed score; a record already claimed is a duplicate. A
-  refused claim stores nothing and says why.
+- **played on this server** (`match`, `practice`): at the end of every rack played here, each
+  seated person's best break of the rack, with the rack's replay;
+- **submitted** (`claim`): a player (a token) claims a break from a game record played
+  anywhere, perhaps by a program (`billiards selfplay`). The server replays the record through
+  its own engine and referees and accepts the claim only if the record replays (every input
+  legal and in bounds, the engine version this server runs) and its best break is exactly the
+  claimed score. The entry carries the claiming player's name and id: nobody enters a break
+  under another's name. A refused claim stores nothing and says why.
+
+The default board lists both kinds, each entry marked with its source: a submitted break was
+verified shot by shot like a played one, and the mark lets a reader weigh it.
+
+One break, one entry: a break is identified by what was played, the position its visit
+started from and the visit's inputs (`server.game.visits`), not by the record it came in, so
+a record cut after the best visit, extended by an input, or (three-cushion) replayed under
+another seed is the same break and refused as a duplicate; only the game's standard rack
+counts (a claim whose setup has a rack gap or another three-cushion target is refused).
+
+Claims cost a worker seconds, so the cheap refusals come first (server/http/api.py,
+`claim_break`, then here): the token; the claim's rate per player (`LIMITS["claim"]`,
+server/game/service.py); the worker time left to the player and to its address (at most
+`CLAIM_SECONDS` per minute each, `WorkBudget`, charged with the replays and with the time
+parsing the claims took), before the body is read; a body whose very
+bytes were refused before as a duplicate or a mismatch (`refused_before`), before it is
+parsed; the setup; the verdict of a record replayed here before (remembered by its digest:
+a repeated claim, duplicate or wrong, costs no replay); and only then a replay, in the
+background worker (server/game/workers.py), at most `MAX_VERIFYING` at once per process.
 
 What a break is: snooker's points in one visit and three-cushion's run as the referees count
 them, and in nine-ball and eight-ball the balls pocketed in one visit without a foul: each
@@ -20,10 +40,13 @@ from __future__ import annotations
 
 import hashlib
 import time
+from collections import OrderedDict
 
 from pydantic import ValidationError
 
-from server.game import refereeing, tables
+from server.game import refereeing, tables, visits
+from server.game.budget import WorkBudget
+from server.game.identity import name_key
 from server.game.publisher import Publisher
 from server.game.refereeing import PlayerInput, State
 from server.game.replays import rack_replay, record_refused, replay_url
@@ -38,8 +61,10 @@ from server.protocol.models import (
     Leaderboard,
     LeaderboardMessage,
     Mode,
+    PlayerInfo,
     ReplayView,
     Source,
+    TableOptions,
 )
 from server.storage import Storage
 
@@ -47,8 +72,19 @@ LEADERBOARD = "public-leaderboard"
 #: Claims replayed at once per process (a long record keeps a worker busy for seconds); more
 #: are refused with 429 so that claims cannot starve the matches of workers.
 MAX_VERIFYING = 1
+#: Seconds of worker time per minute the claims of one player, or of one address, may take.
+CLAIM_SECONDS = 10.0
+#: Verdicts of replayed records remembered per process (a repeated claim is refused from here).
+KNOWN_RECORDS = 4096
 #: Breaks a leaderboard answer or message lists by default, and at most.
 TOP, MOST = 20, 100
+
+
+def ranked(options: TableOptions) -> bool:
+    """Whether a table's breaks are ranked: the boards rank each game as the rules set it out
+    (snooker with 15 reds, three-cushion to 15 points); a break at other options keeps its
+    replay but is not compared with those."""
+    return options.reds == refereeing.REDS_FULL and options.target in (0, refereeing.DEFAULT_TARGET)
 
 
 class Breaks:
@@ -57,6 +93,14 @@ class Breaks:
         self._pool = pool
         self._publisher = publisher
         self._verifying = 0
+        #: Worker seconds each player and address may spend on claims per minute.
+        self.budget = WorkBudget(CLAIM_SECONDS, "your claims")
+        #: Records replayed for claims by this process (what the cheap refusals save).
+        self.replayed = 0
+        #: Refusals any claimant gets, by the digest of the claim's bytes (`refused_before`).
+        self._refused: OrderedDict[bytes, ServiceError] = OrderedDict()
+        #: The verdicts of the last records replayed (by the digest of their JSON).
+        self._known: OrderedDict[bytes, refereeing.Verified | ServiceError] = OrderedDict()
 
     async def top(self, game: str, limit: int = TOP) -> Leaderboard:
         breaks = await self._storage.top_breaks(game, min(limit, MOST))
@@ -71,7 +115,8 @@ class Breaks:
         record: TableRecord,
         played: list[tuple[PlayerInput, State]],
     ) -> ReplayView:
-        """Store the rack's replay and its players' best breaks (once per rack and seat).
+        """Store the rack's replay and its players' best breaks (each break once: the same
+        visit from the same position, played or claimed before, is not entered again).
 
         played: each input of the rack that was played (void ones left out), with the state it
         led to (the last one's `best` is each player's best break of the rack)."""
@@ -85,10 +130,17 @@ class Breaks:
         )
         game_record = refereeing.rack_record(setup, played)
         replay, best = rack_replay(record, game_record, played[-1][1])
+        opening = refereeing.new_rack(
+            record.game, setup.seed, record.breaker, reds=options.reds, target=options.target
+        )
+        keys = visits.break_keys(record.game, opening, played)
         await self._storage.add_replay(replay)
+        if not ranked(options):
+            return replay
         source = Source.PRACTICE if record.mode is Mode.PRACTICE else Source.MATCH
         if record.mode is Mode.PRACTICE:  # one person played every visit
-            best = (max(best), 0)
+            seat = 0 if best[0] >= best[1] else 1
+            best, keys = (best[seat], 0), (keys[seat], None)
         added = False
         for seat, occupant in enumerate(record.seats):
             if occupant is None or tables.is_bot(occupant) or best[seat] <= 0:
@@ -102,35 +154,101 @@ class Breaks:
                 source=source,
                 at=time.time(),
             )
-            added |= await self._storage.add_break(entry, f"{record.id}:{record.rack}:{seat}")
+            key = keys[seat]
+            assert key is not None  # a break above zero was scored in some visit
+            added |= await self._storage.add_break(entry, break_storage_key(key))
         if added:
             await self._announce(record.game)
         return replay
 
-    async def claim(self, claim: ClaimRequest) -> ClaimVerdict:
-        """Verify a claimed break by replaying its record; ServiceError says why it is refused."""
-        if self._verifying >= MAX_VERIFYING:
-            raise ServiceError(ErrorCode.RATE_LIMITED, "claims are being verified: retry soon")
-        record_json = claim.record.model_dump_json()
-        self._verifying += 1
+    def refused_before(self, body: bytes) -> None:
+        """Refuse at once a claim whose very bytes were refused as a duplicate or a mismatch
+        (refusals that do not depend on who claims): no parsing, no replay."""
+        known = self._refused.get(hashlib.sha256(body).digest())
+        if known is not None:
+            raise known
+
+    async def claim(
+        self, player: PlayerInfo, address: str, claim: ClaimRequest, body: bytes = b""
+    ) -> ClaimVerdict:
+        """Verify a break `player` claims (from `address`); ServiceError says why it is refused.
+
+        Cheap refusals come first (module docstring): a setup that is not the game's standard,
+        a holder out of worker time, a record already verified here; only then a replay.
+        `body`: the request's bytes, remembered with a refusal that any claimant would get."""
         try:
-            verified = await self._pool.verify(record_json.encode())
-        except refereeing.NOT_REPLAYED as error:
-            raise record_refused(error) from None
-        except (ValueError, ValidationError) as error:
-            raise ServiceError(ErrorCode.BAD_REQUEST, f"unreadable record: {error}") from None
-        finally:
-            self._verifying -= 1
-        if verified.game != claim.game:
+            return await self._claim(player, address, claim)
+        except ServiceError as error:
+            if error.code in (ErrorCode.DUPLICATE, ErrorCode.CLAIM_MISMATCH) and body:
+                self._refused[hashlib.sha256(body).digest()] = error
+                if len(self._refused) > KNOWN_RECORDS:
+                    self._refused.popitem(last=False)
+            raise
+
+    async def _claim(self, player: PlayerInfo, address: str, claim: ClaimRequest) -> ClaimVerdict:
+        if claim.name is not None and name_key(claim.name) != name_key(player.name):
             raise ServiceError(
-                ErrorCode.CLAIM_MISMATCH, f"the record is a {verified.game} game, not {claim.game}"
+                ErrorCode.FORBIDDEN, f"a claim is entered under your own name, {player.name!r}"
             )
+        setup = claim.record.setup
+        if setup.game != claim.game:
+            raise ServiceError(
+                ErrorCode.CLAIM_MISMATCH, f"the record is a {setup.game} game, not {claim.game}"
+            )
+        if setup.gap != 0.0 or setup.target != 0:
+            raise ServiceError(
+                ErrorCode.CLAIM_MISMATCH,
+                "only the game's standard rack counts (no gap, the default target)",
+            )
+        record_json = claim.record.model_dump_json().encode()
+        verified = await self._verified(record_json, player.id, address)
         best = max(verified.best)
         if claim.score != best:
             raise ServiceError(
                 ErrorCode.CLAIM_MISMATCH,
                 f"the record's best break is {best}, not {claim.score}",
             )
+        return await self._enter(player, claim, verified)
+
+    async def _verified(self, record_json: bytes, *holders: str) -> refereeing.Verified:
+        """The record's replay verdict: remembered if this process replayed the same record
+        before (so a repeated claim costs a look-up), else replayed in the background pool and
+        charged to `holders`' worker time."""
+        digest = hashlib.sha256(record_json).digest()
+        if (known := self._known.get(digest)) is not None:
+            self._known.move_to_end(digest)
+            if isinstance(known, ServiceError):
+                raise known
+            return known
+        self.budget.check(*holders)
+        if self._verifying >= MAX_VERIFYING:
+            raise ServiceError(ErrorCode.RATE_LIMITED, "claims are being verified: retry soon")
+        self._verifying += 1
+        self.replayed += 1
+        began = self.budget.clock()
+        try:
+            verdict: refereeing.Verified | ServiceError = await self._pool.verify(record_json)
+        except refereeing.NOT_REPLAYED as error:
+            verdict = record_refused(error)
+        except (ValueError, ValidationError) as error:
+            verdict = ServiceError(ErrorCode.BAD_REQUEST, f"unreadable record: {error}")
+        finally:
+            self._verifying -= 1
+            self.budget.charge(self.budget.clock() - began, *holders)
+        self._known[digest] = verdict
+        if len(self._known) > KNOWN_RECORDS:
+            self._known.popitem(last=False)
+        if isinstance(verdict, ServiceError):
+            raise verdict
+        return verdict
+
+    async def _enter(
+        self, player: PlayerInfo, claim: ClaimRequest, verified: refereeing.Verified
+    ) -> ClaimVerdict:
+        """Store a verified claim's break under its identity, unless that break is stored."""
+        seat = 0 if verified.best[0] >= verified.best[1] else 1
+        key = verified.keys[seat]
+        assert key is not None  # a break above zero was scored in some visit
         replay_id = new_replay_id()
         replay = ReplayView(
             id=replay_id,
@@ -138,22 +256,28 @@ class Breaks:
             table=None,
             rack=1,
             game=verified.game,
-            players=[None, None],
+            players=[player, None] if seat == 0 else [None, player],
             best=verified.best,
             record=claim.record,
             created=time.time(),
         )
         entry = BreakEntry(
             game=verified.game,
-            score=best,
-            name=claim.name,
+            score=verified.best[seat],
+            name=player.name,
+            player=player.id,
             replay=replay_id,
             source=Source.CLAIM,
             at=time.time(),
         )
-        digest = hashlib.sha256(record_json.encode()).hexdigest()
-        if not await self._storage.add_break(entry, f"claim:{digest}"):
-            raise ServiceError(ErrorCode.DUPLICATE, "this record has been claimed already")
+        if not await self._storage.add_break(entry, break_storage_key(key)):
+            raise ServiceError(ErrorCode.DUPLICATE, "this break is on the leaderboard already")
         await self._storage.add_replay(replay)
         await self._announce(verified.game)
         return ClaimVerdict(accepted=True, entry=entry, replay=replay)
+
+
+def break_storage_key(key: str) -> str:
+    """The storage key of a break (`server.game.visits.break_key`): one entry per break,
+    however it entered."""
+    return f"break:{key}"

@@ -20,6 +20,7 @@ import contextlib
 import logging
 import secrets
 import time
+from collections import Counter
 from contextlib import AbstractAsyncContextManager
 
 from server.game import tables
@@ -51,6 +52,10 @@ BATCH = 0.7
 LISTED = 100
 #: Seconds between snapshots while nothing changes (who is online still does).
 REFRESH = 10.0
+#: Open public tables (waiting for an opponent) one player may have at once, and show.
+OPEN_PER_PLAYER = 3
+#: Listed tables read to choose a snapshot's: enough that floods cannot hide the others'.
+SCANNED = 4 * LISTED
 #: Seconds after a pairing during which a missing table is created by whoever asks (the
 #: request that paired them normally creates it within milliseconds); later it has expired.
 PAIRING_KEPT = 60.0
@@ -77,6 +82,30 @@ def choice_of(pool: str) -> GameChoice:
     game, *options = pool.split("~")
     fields = dict(option.split("=", 1) for option in options)
     return GameChoice.model_validate({"game": game, **{k: int(v) for k, v in fields.items()}})
+
+
+def creator(record: TableRecord) -> str | None:
+    """The player waiting at an open table (None for a table that is not open)."""
+    if record.status is not Status.OPEN:
+        return None
+    return next((seat.id for seat in record.seats if seat is not None), None)
+
+
+def fair_share(listed: list[TableRecord]) -> list[TableRecord]:
+    """The tables a snapshot shows: the newest first, at most `LISTED`, and of one player's
+    open tables at most `OPEN_PER_PLAYER` (the newest), so that nobody's tables push the
+    others' out of the lobby."""
+    shown: list[TableRecord] = []
+    open_tables: Counter[str] = Counter()
+    for record in listed:
+        if (who := creator(record)) is not None:
+            open_tables[who] += 1
+            if open_tables[who] > OPEN_PER_PLAYER:
+                continue
+        shown.append(record)
+        if len(shown) == LISTED:
+            break
+    return shown
 
 
 class Lobby:
@@ -107,13 +136,16 @@ class Lobby:
             await asyncio.sleep(BATCH)
 
     async def spectators(self, record: TableRecord) -> int:
-        """Readers of the table's channel who are not its seated players."""
+        """Readers of the table's channel who are not its seated players: connections, not
+        people (subscribing needs no token, so one holder's sockets cannot be told from
+        several people's; docs/protocol.md says so, and `--max-connections-per-address`
+        bounds what one address adds)."""
         readers = await self._publisher.subscribers(record.channel)
         seated = sum(1 for p in record.seats if p is not None and not tables.is_bot(p))
         return max(0, readers - seated)
 
     async def tables(self) -> TableList:
-        listed = await self._storage.listed_tables(LISTED)
+        listed = fair_share(await self._storage.listed_tables(SCANNED))
         summaries: list[TableSummary] = [
             tables.summary(record, await self.spectators(record)) for record in listed
         ]
@@ -150,6 +182,16 @@ class Lobby:
                 doing, table = Doing.ONLINE, None
             online.append(OnlinePlayer(player=player, doing=doing, table=table))
         return online
+
+    async def check_open_tables(self, player: PlayerInfo) -> None:
+        """TOO_MANY_TABLES if `player` already has `OPEN_PER_PLAYER` open public tables (among
+        the newest `SCANNED` listed: an older one would not be shown anyway)."""
+        listed = await self._storage.listed_tables(SCANNED)
+        if sum(creator(record) == player.id for record in listed) >= OPEN_PER_PLAYER:
+            raise ServiceError(
+                ErrorCode.TOO_MANY_TABLES,
+                f"you have {OPEN_PER_PLAYER} open tables: cancel one or wait for an opponent",
+            )
 
     # ----- quick match ------------------------------------------------------------------
     async def quick(self, player: PlayerInfo, choice: GameChoice) -> QuickStatus:

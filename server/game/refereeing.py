@@ -26,6 +26,8 @@ from rules.referee import allowed
 from rules.referee import referee as referee_of
 from rules.spots import in_region, is_free
 from rules.state import Decision, Region, State
+from rules.three_cushion import DEFAULT_TARGET
+from server.game import visits
 from server.protocol.trajectories import Trajectory, wire_trajectory
 
 #: The seed of the server's bots: their noise draws are keyed by it and by the state.
@@ -34,7 +36,9 @@ BOT_SEED = 0
 TIMEOUT_SPEED = 0.05
 
 __all__ = [
+    "DEFAULT_TARGET",
     "NOT_REPLAYED",
+    "REDS_FULL",
     "Choice",
     "Decision",
     "GameName",
@@ -202,11 +206,13 @@ def rack_record(setup: Setup, played: list[tuple[PlayerInput, State]]) -> GameRe
 class Verified:
     """A replayed record: its game, each player's best break (the referee's `State.best`:
     snooker's break, three-cushion's run, pool's balls pocketed in one visit without a foul),
-    and its inputs."""
+    its inputs, and the identity of each player's best break (`server.game.visits`: the
+    position and inputs of the visit, None when the player scored no break)."""
 
     game: GameName
     best: tuple[int, int]
     inputs: int
+    keys: tuple[str | None, str | None] = (None, None)
 
 
 #: What replaying a record raises when it does not replay: a refused or differing input
@@ -222,7 +228,13 @@ def verify(record_json: bytes) -> Verified:
     """
     record = GameRecord.from_json(record_json)
     played = replay(record)
-    return Verified(game=record.setup.game, best=played.final.best, inputs=len(record.inputs))
+    steps = [(step.action, step.state) for step in played.steps]
+    return Verified(
+        game=record.setup.game,
+        best=played.final.best,
+        inputs=len(record.inputs),
+        keys=visits.break_keys(record.setup.game, played.start, steps),
+    )
 
 
 @dataclass(frozen=True, slots=True)

@@ -5,16 +5,22 @@ A replay is the rack's game record (setup and inputs, `rules.record.GameRecord`)
 page in the web client and `GET /api/replays/{id}` its JSON. The record's players are the
 table's seats and its setup names the rack's breaker, so it replays exactly as it was played.
 
-The browser runs no physics, so `GET /api/replays/{id}/shots` answers every input's outcome
-(`ReplayShots`), computed by replaying the record in the worker pool. Its guarantees:
+The browser runs no physics, so `GET /api/replays/{id}/shots?page=N` answers the inputs'
+outcomes (`ReplayShots`), computed by replaying the record in the background worker. Its
+guarantees:
 
 1. The shots are the record's replay: one per input, in order, each state the one the rules
-   reach (`rules.record.replay`, which checks every digest), in the outcome message's form.
+   reach (`rules.record.replay`, which checks every digest), in the outcome message's form,
+   `REPLAY_SHOTS_PAGE` inputs per page (a page's `next` names the following one), so one
+   answer carries a bounded number of shots whatever the record's length.
 2. No replay is computed on the event loop, and at most `MAX_REPLAYING` replays at once per
    process; a request for another one past that is refused (429 `rate_limited`), while one
    for a replay being computed waits for that computation.
-3. Answers are kept in a least-recently-used cache of at most `CACHE_BYTES` bytes per process
-   (a replay never changes, so an answer never goes stale); a larger answer is not kept.
+3. Computing costs the asker: each client address may have at most `REPLAY_SECONDS` of
+   worker time per minute spent on replays it asked for and that were not kept (429 with the
+   wait once spent, before any work: server/game/budget.py); a kept page costs nothing.
+4. Pages are kept in a least-recently-used cache of at most `CACHE_BYTES` bytes per process (a
+   replay never changes, so a page never goes stale); one replay computes all its pages at once.
 """
 
 from __future__ import annotations
@@ -25,10 +31,11 @@ from collections import OrderedDict
 from typing import TYPE_CHECKING
 
 from server.game import refereeing
+from server.game.budget import WorkBudget
 from server.game.refereeing import GameRecord, State
 from server.game.tables import TableRecord
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import new_replay_id
+from server.protocol.ids import REPLAY_SHOTS_PAGE, new_replay_id
 from server.protocol.models import ReplayShot, ReplayShots, ReplayView
 from server.storage import Storage
 
@@ -38,9 +45,11 @@ if TYPE_CHECKING:
 #: Replays computed at once per process (a long frame keeps a worker busy for seconds), so that
 #: replays cannot starve the matches of workers.
 MAX_REPLAYING = 1
-#: Bytes of answers kept per process (a nine-ball rack's is some 100 KB, a snooker frame's a
+#: Bytes of pages kept per process (a nine-ball rack's is some 100 KB, a snooker frame's a
 #: few MB).
 CACHE_BYTES = 32 * 1024 * 1024
+#: Seconds of worker time per minute one client address may spend on replays not kept.
+REPLAY_SECONDS = 10.0
 
 
 def replay_url(replay_id: str) -> str:
@@ -77,8 +86,14 @@ def record_refused(error: Exception) -> ServiceError:
     return ServiceError(ErrorCode.ILLEGAL_INPUT, f"the record does not replay: {error}", rule)
 
 
-def shots_json(replay_id: str, record: GameRecord) -> bytes:
-    """The `ReplayShots` JSON of a replay (run in a worker process, which also encodes it)."""
+def page_count(inputs: int) -> int:
+    """The pages of a replay of `inputs` inputs (one, empty, for none)."""
+    return max(1, -(-inputs // REPLAY_SHOTS_PAGE))
+
+
+def shots_pages(replay_id: str, record: GameRecord) -> list[bytes]:
+    """The `ReplayShots` JSON of each page of a replay (run in a worker process, which also
+    encodes them)."""
     shots = [
         ReplayShot(
             player=played.player,
@@ -89,51 +104,78 @@ def shots_json(replay_id: str, record: GameRecord) -> bytes:
         )
         for played in refereeing.replay_record(record)
     ]
-    return ReplayShots(id=replay_id, shots=shots).model_dump_json().encode()
+    count = page_count(len(shots))
+    return [
+        ReplayShots(
+            id=replay_id,
+            page=page,
+            shots=shots[page * REPLAY_SHOTS_PAGE : (page + 1) * REPLAY_SHOTS_PAGE],
+            next=page + 1 if page + 1 < count else None,
+        )
+        .model_dump_json()
+        .encode()
+        for page in range(count)
+    ]
 
 
 class ReplayShotsCache:
-    """`await cache.shots(replay_id)`: the replay's `ReplayShots` JSON (see the guarantees
-    above); ServiceError for an unknown replay, a busy process or a record that does not
-    replay."""
+    """`await cache.shots(replay_id, page, asker)`: a page of the replay's `ReplayShots` JSON
+    (see the guarantees above); ServiceError for an unknown replay or page, a busy process, an
+    asker out of worker time or a record that does not replay."""
 
     def __init__(self, storage: Storage, pool: WorkerPool) -> None:
         self._storage = storage
         self._pool = pool
-        self._kept: OrderedDict[str, bytes] = OrderedDict()
-        self._running: dict[str, asyncio.Task[bytes]] = {}
+        self._kept: OrderedDict[tuple[str, int], bytes] = OrderedDict()
+        self._kept_bytes = 0
+        self._running: dict[str, asyncio.Task[list[bytes]]] = {}
+        self.budget = WorkBudget(REPLAY_SECONDS, "your replays")
 
-    def _keep(self, replay_id: str, answer: bytes) -> None:
-        if len(answer) > CACHE_BYTES:
-            return
-        self._kept[replay_id] = answer
-        while sum(map(len, self._kept.values())) > CACHE_BYTES:
-            self._kept.popitem(last=False)
+    def _keep(self, replay_id: str, pages: list[bytes]) -> None:
+        for page, answer in enumerate(pages):
+            if len(answer) <= CACHE_BYTES:
+                self._kept[(replay_id, page)] = answer
+                self._kept_bytes += len(answer)
+        while self._kept_bytes > CACHE_BYTES:
+            self._kept_bytes -= len(self._kept.popitem(last=False)[1])
 
-    async def _compute(self, replay_id: str, record: GameRecord) -> bytes:
+    async def _compute(self, replay_id: str, record: GameRecord, asker: str) -> list[bytes]:
+        began = self.budget.clock()
         try:
-            answer = await self._pool.replay_shots(replay_id, record)
+            pages = await self._pool.replay_shots(replay_id, record)
         except refereeing.NOT_REPLAYED as error:
             raise record_refused(error) from None
         finally:
             del self._running[replay_id]
-        self._keep(replay_id, answer)
-        return answer
+            self.budget.charge(self.budget.clock() - began, asker)
+        self._keep(replay_id, pages)
+        return pages
 
-    async def shots(self, replay_id: str) -> bytes:
+    def _kept_page(self, replay_id: str, page: int) -> bytes | None:
+        kept = self._kept.get((replay_id, page))
+        if kept is not None:
+            self._kept.move_to_end((replay_id, page))
+        return kept
+
+    async def shots(self, replay_id: str, page: int = 0, asker: str = "") -> bytes:
         if replay_id not in self._running:
-            if (kept := self._kept.get(replay_id)) is not None:
-                self._kept.move_to_end(replay_id)
+            if (kept := self._kept_page(replay_id, page)) is not None:
                 return kept
             replay = await self._storage.get_replay(replay_id)
             if replay is None:
                 raise ServiceError(ErrorCode.NOT_FOUND, "no such replay")
+            if page >= (count := page_count(len(replay.record.inputs))):
+                raise ServiceError(ErrorCode.NOT_FOUND, f"the replay has {count} pages")
             if replay_id not in self._running:  # still: no other request started it meanwhile
-                if (kept := self._kept.get(replay_id)) is not None:
+                if (kept := self._kept_page(replay_id, page)) is not None:
                     return kept
+                self.budget.check(asker)
                 if len(self._running) >= MAX_REPLAYING:
                     raise ServiceError(ErrorCode.RATE_LIMITED, "replays are being computed")
-                task = asyncio.ensure_future(self._compute(replay_id, replay.record))
+                task = asyncio.ensure_future(self._compute(replay_id, replay.record, asker))
                 self._running[replay_id] = task
         # Shielded: a client that goes away does not cancel the others' computation.
-        return await asyncio.shield(self._running[replay_id])
+        pages = await asyncio.shield(self._running[replay_id])
+        if page >= len(pages):  # (a request that waited for another's computation)
+            raise ServiceError(ErrorCode.NOT_FOUND, f"the replay has {len(pages)} pages")
+        return pages[page]

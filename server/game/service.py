@@ -16,7 +16,7 @@ from server.game.actor import MatchContext, Matches, new_replica_id
 from server.game.challenges import Challenges
 from server.game.clock import running_clock
 from server.game.expiry import running_expiry
-from server.game.identity import Identity
+from server.game.identity import ONLINE, Identity
 from server.game.leaderboard import Breaks
 from server.game.lobby import Lobby
 from server.game.publisher import Publisher
@@ -27,18 +27,31 @@ from server.protocol.errors import ErrorCode, ServiceError
 from server.relay import RateLimiter, Relay
 from server.storage import Storage
 
+#: Names one client address may hold: new identities per address are limited to this many
+#: at once and as many again per `ONLINE` seconds, the time an unused name stays held (so an
+#: address holds at most about this many names; before: some 1,500). `billiards serve
+#: --names-per-address` sets it (a network behind one NAT address may need more).
+NAMES_PER_ADDRESS = 50
+
 #: (requests per second, burst) per caller for what makes the server store or send something:
-#: new identities per client address, tables, quick-match requests and heartbeats per player,
-#: quick messages per player and table (one per 2 s). Intents need none: only the player to act may
-#: send one, and it waits for the previous outcome.
+#: new identities per client address (`NAMES_PER_ADDRESS`), tables, quick-match requests and
+#: heartbeats per player, quick messages per player and table (one per 2 s), leaderboard
+#: claims per player (their worker time is bounded apart, server/game/budget.py). Intents need
+#: none: only the player to act may send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
-    "register": (5.0, 200),
+    "register": (NAMES_PER_ADDRESS / ONLINE, NAMES_PER_ADDRESS),
     "create": (1.0, 20),
     "quick": (2.0, 20),
     "challenge": (0.5, 10),
     "chat": (0.5, 1),
     "heartbeat": (2.0, 10),
+    "claim": (0.5, 10),
 }
+
+#: How much lower than the server the background worker runs: claims and replays' shots,
+#: which nobody at a table waits on, go to one worker of their own at this priority, so that
+#: a flood of them takes neither the matches' workers nor the CPU their shots want.
+BACKGROUND_NICE = 10
 
 
 @dataclass
@@ -81,13 +94,15 @@ async def running_service(
     redis_url: str | None,
     workers: int | None,
     grace: float = GRACE,
+    names_per_address: int = NAMES_PER_ADDRESS,
 ) -> AsyncIterator[Service]:
     """The service, its storage open, worker pool started and lobby publishing, until exit."""
     storage = await open_storage(database, redis_url)
     pool = WorkerPool(workers or default_workers())
+    background = WorkerPool(1, nice=BACKGROUND_NICE)
     publisher = Publisher(relay)
     lobby = Lobby(storage, publisher)
-    breaks = Breaks(storage, pool, publisher)
+    breaks = Breaks(storage, background, publisher)
     context = MatchContext(
         storage, pool, publisher, lobby.changed, new_replica_id(), breaks, grace=grace
     )
@@ -100,8 +115,9 @@ async def running_service(
         lobby=lobby,
         challenges=Challenges(storage, publisher, lobby),
         matches=Matches(context),
-        replay_shots=ReplayShotsCache(storage, pool),
+        replay_shots=ReplayShotsCache(storage, background),
     )
+    service.limits["register"] = RateLimiter(names_per_address / ONLINE, names_per_address)
     try:
         async with (
             lobby.running(),
@@ -112,6 +128,7 @@ async def running_service(
             await service.matches.idle()
     finally:
         pool.close()
+        background.close()
         await storage.close()
 
 

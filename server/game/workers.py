@@ -71,8 +71,11 @@ def _receive(sock: socket.socket) -> bytes | None:
     return bytes(payload)
 
 
-def _serve(sock: socket.socket) -> None:
-    """A worker's life: answer each call on `sock` until the server closes it."""
+def _serve(sock: socket.socket, nice: int) -> None:
+    """A worker's life: answer each call on `sock` until the server closes it (at the
+    scheduling priority `nice` lower than the server's)."""
+    if nice:
+        os.nice(nice)
     while (frame := _receive(sock)) is not None:
         function, args = pickle.loads(frame)
         try:
@@ -91,9 +94,9 @@ def _serve(sock: socket.socket) -> None:
 class _Worker:
     """One worker process and the event loop's end of its socket."""
 
-    def __init__(self, context: multiprocessing.context.BaseContext) -> None:
+    def __init__(self, context: multiprocessing.context.BaseContext, nice: int = 0) -> None:
         mine, theirs = socket.socketpair()
-        self.process = context.Process(target=_serve, args=(theirs,), daemon=True)
+        self.process = context.Process(target=_serve, args=(theirs, nice), daemon=True)
         self.process.start()
         theirs.close()
         self._socket = mine
@@ -131,12 +134,15 @@ class _Worker:
 
 class WorkerPool:
     """The rules' work in worker processes: `await pool.referee(state, action)`,
-    `await pool.bot_input(state, bot)`, and the rest below."""
+    `await pool.bot_input(state, bot)`, and the rest below. `nice`: how much lower than the
+    server the workers are scheduled (the background pool's, for work nobody waits on at a
+    table: claims and replays, so that they take no CPU the matches' shots want)."""
 
-    def __init__(self, workers: int) -> None:
+    def __init__(self, workers: int, nice: int = 0) -> None:
         self.workers = workers
+        self._nice = nice
         self._context = _context()
-        self._all = [_Worker(self._context) for _ in range(workers)]
+        self._all = [_Worker(self._context, nice) for _ in range(workers)]
         self._idle: asyncio.Queue[_Worker] | None = None
 
     def _queue(self) -> asyncio.Queue[_Worker]:
@@ -148,7 +154,7 @@ class WorkerPool:
 
     def _replace(self, worker: _Worker) -> _Worker:
         worker.stop(wait=0)  # dead already, or busy with a call nobody awaits any more
-        fresh = _Worker(self._context)
+        fresh = _Worker(self._context, self._nice)
         self._all[self._all.index(worker)] = fresh
         return fresh
 
@@ -177,8 +183,8 @@ class WorkerPool:
     async def verify(self, record_json: bytes) -> refereeing.Verified:
         return await self._run(refereeing.verify, record_json)
 
-    async def replay_shots(self, replay_id: str, record: GameRecord) -> bytes:
-        return await self._run(replays.shots_json, replay_id, record)
+    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
+        return await self._run(replays.shots_pages, replay_id, record)
 
     def close(self) -> None:
         for worker in self._all:

@@ -19,10 +19,11 @@ from aiohttp import web
 from pydantic import BaseModel, ValidationError
 from redis.exceptions import RedisError
 
+from physics.scene import unique_keys
 from server.game import commands, tables
 from server.game.lobby import new_seed
 from server.game.profiles import bots, profile, rating_view
-from server.game.service import SERVICE_KEY, Service, running_service
+from server.game.service import NAMES_PER_ADDRESS, SERVICE_KEY, Service, running_service
 from server.game.tables import GRACE, TableRecord
 from server.protocol import ids
 from server.protocol.errors import ErrorCode, ServiceError
@@ -42,6 +43,7 @@ from server.protocol.models import (
     IntentAccepted,
     IntentDuplicate,
     Leaderboard,
+    Mode,
     PlayerCreate,
     PlayerInfo,
     PlayerProfile,
@@ -103,6 +105,11 @@ def refusal(error: ServiceError) -> web.Response:
 
 async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> M:
     """The request's body as `model`; ServiceError for anything else."""
+    return parse_body(await read_body(request, limit), model)
+
+
+async def read_body(request: web.Request, limit: int = MAX_BODY) -> bytes:
+    """The request's JSON body, at most `limit` bytes; ServiceError for anything else."""
     if media_type(request.content_type) != JSON:
         raise ServiceError(ErrorCode.UNSUPPORTED_MEDIA_TYPE, "send application/json")
     data = bytearray()
@@ -110,8 +117,13 @@ async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> 
         data += chunk
         if len(data) > limit:
             raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies here are at most {limit} bytes")
+    return bytes(data)
+
+
+def parse_body(data: bytes, model: type[M]) -> M:
+    """A JSON body as `model` (strict: module docstring); ServiceError for anything else."""
     try:
-        return model.model_validate_json(canonical_json(bytes(data)), strict=True)
+        return model.model_validate_json(canonical_json(data), strict=True)
     except ValidationError as error:
         first = error.errors()[0]
         where = ".".join(str(part) for part in first["loc"]) or "body"
@@ -136,9 +148,12 @@ def _no_constant(name: str) -> None:
 
 def canonical_json(data: bytes) -> str:
     """The body re-encoded with integral numbers as integers; BAD_REQUEST for what is not
-    JSON (NaN, infinities, invalid text, nesting too deep for a parser)."""
+    JSON (NaN, infinities, invalid text, a key twice in an object, nesting too deep for a
+    parser)."""
     try:
-        value = json.loads(data, parse_float=_number, parse_constant=_no_constant)
+        value = json.loads(
+            data, parse_float=_number, parse_constant=_no_constant, object_pairs_hook=unique_keys
+        )
     except (ValueError, RecursionError) as error:
         reason = "too deeply nested" if isinstance(error, RecursionError) else str(error)
         raise ServiceError(ErrorCode.BAD_REQUEST, f"body is not JSON: {reason}") from None
@@ -146,7 +161,11 @@ def canonical_json(data: bytes) -> str:
 
 
 async def player_of(request: web.Request) -> PlayerInfo:
-    return await service_of(request).identity.authenticate(bearer_token(request))
+    """The player whose token is in the Authorization header (never in the URL: docs)."""
+    token = bearer_token(request, query=False)
+    if token is None:
+        raise ServiceError(ErrorCode.UNAUTHORIZED, "send the token as Authorization: Bearer")
+    return await service_of(request).identity.authenticate(token)
 
 
 async def table_of(request: web.Request) -> TableRecord:
@@ -199,6 +218,8 @@ async def create_table(request: web.Request) -> web.Response:
     create = await parse(request, TableCreate)
     service = service_of(request)
     service.throttle("create", player.id)
+    if create.mode is Mode.MATCH and not create.private:
+        await service.lobby.check_open_tables(player)
     record = tables.new_table(new_table_id(), create, player, new_seed())
     await service.storage.create_table(record)
     service.lobby.changed()
@@ -289,7 +310,14 @@ async def get_replay(request: web.Request) -> web.Response:
 
 
 async def replay_shots(request: web.Request) -> web.Response:
-    shots = await service_of(request).replay_shots.shots(request.match_info["replay"])
+    """A page of a replay's shots (`?page=`, from 0), computing charged to the asker's address."""
+    text = request.query.get("page", "0")
+    if not (text.isdigit() and text.isascii() and len(text) <= 6):
+        raise ServiceError(ErrorCode.BAD_REQUEST, "page is a number from 0")
+    asker = client_address(request, relay_of(request).trusted_proxies)
+    shots = await service_of(request).replay_shots.shots(
+        request.match_info["replay"], int(text), asker
+    )
     return web.Response(body=shots, content_type=JSON)
 
 
@@ -306,8 +334,22 @@ async def best_break(request: web.Request) -> web.Response:
 
 
 async def claim_break(request: web.Request) -> web.Response:
-    claim = await parse(request, ClaimRequest, MAX_RECORD_BODY)
-    return answer(await service_of(request).breaks.claim(claim), 201)
+    """Refused in order of cost: the token, the claim rate, the holder's worker time, a body
+    refused before; then the body is parsed and `Breaks.claim` goes on."""
+    player = await player_of(request)
+    service = service_of(request)
+    service.throttle("claim", player.id)
+    address = client_address(request, relay_of(request).trusted_proxies)
+    service.breaks.budget.check(player.id, address)
+    data = await read_body(request, MAX_RECORD_BODY)
+    service.breaks.refused_before(data)
+    budget = service.breaks.budget
+    began = budget.clock()
+    try:  # parsing a long record takes the event loop tens of ms: the holder's time too
+        claim = parse_body(data, ClaimRequest)
+    finally:
+        budget.charge(budget.clock() - began, player.id, address)
+    return answer(await service.breaks.claim(player, address, claim, data), 201)
 
 
 # ----- quick match ----------------------------------------------------------------------------
@@ -370,7 +412,7 @@ ROUTES: tuple[Route, ...] = (
     Route("GET", "/api/bots", list_bots, "The bots' levels, names and ratings", {200: BotList},
           auth=False),
     Route("POST", "/api/tables", create_table, "Create a table", {201: TableView}, TableCreate,
-          refusals=(ErrorCode.RATE_LIMITED,)),
+          refusals=(ErrorCode.RATE_LIMITED, ErrorCode.TOO_MANY_TABLES)),
     Route("GET", "/api/tables", list_tables, "Open and live public tables", {200: TableList},
           auth=False),
     Route("GET", _T, get_table, "A table's full state (resync)", {200: TableView}, auth=False,
@@ -396,17 +438,19 @@ ROUTES: tuple[Route, ...] = (
     Route("GET", f"/api/replays/{REPLAY_ID}", get_replay, "A rack's replay",
           {200: ReplayView}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", f"/api/replays/{REPLAY_ID}/shots", replay_shots,
-          "Every input of a replay with its outcome and motion", {200: ReplayShots}, auth=False,
-          refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED, ErrorCode.ILLEGAL_INPUT)),
+          "A page of a replay's inputs with their outcomes and motion (?page=)",
+          {200: ReplayShots}, auth=False,
+          refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED, ErrorCode.ILLEGAL_INPUT,
+                    ErrorCode.BAD_REQUEST)),
     Route("GET", f"/api/leaderboard/{GAME}", leaderboard, "A game's highest breaks",
           {200: Leaderboard}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", f"/api/leaderboard/{GAME}/players/{NAME}", best_break,
           "A name's best break in a game", {200: BreakEntry}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
     Route("POST", "/api/leaderboard/claims", claim_break, "Claim a break from a game record",
-          {201: ClaimVerdict}, ClaimRequest, auth=False, max_body=MAX_RECORD_BODY,
+          {201: ClaimVerdict}, ClaimRequest, max_body=MAX_RECORD_BODY,
           refusals=(ErrorCode.ILLEGAL_INPUT, ErrorCode.CLAIM_MISMATCH, ErrorCode.DUPLICATE,
-                    ErrorCode.RATE_LIMITED)),
+                    ErrorCode.RATE_LIMITED, ErrorCode.FORBIDDEN)),
     Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest,
           refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/quick", quick_status, "Where my quick match stands", {200: QuickStatus}),
@@ -465,6 +509,7 @@ def mount_api(
     redis_url: str | None,
     workers: int | None,
     grace: float = GRACE,
+    names_per_address: int = NAMES_PER_ADDRESS,
 ) -> None:
     """Add the `/api/` routes, their error handling and the service's lifetime to `app`."""
     app.middlewares.append(api_errors)
@@ -473,7 +518,9 @@ def mount_api(
     app.router.add_get("/api/openapi.json", _openapi)
 
     async def lifetime(app: web.Application) -> AsyncIterator[None]:
-        async with running_service(relay, database, redis_url, workers, grace) as service:
+        async with running_service(
+            relay, database, redis_url, workers, grace, names_per_address
+        ) as service:
             app[SERVICE_KEY] = service
             yield
 

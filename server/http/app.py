@@ -12,8 +12,10 @@ from collections.abc import AsyncIterator
 from aiohttp import web
 from pydantic import BaseModel, ConfigDict, Field
 
+from server.game.service import NAMES_PER_ADDRESS
 from server.game.tables import GRACE
 from server.http.api import mount_api
+from server.http.logs import one_line_bad_requests
 from server.http.pages import mount_web
 from server.relay import Backend, BackendConfig, MemoryBackend, Relay, RelaySettings, mount_relay
 
@@ -42,6 +44,9 @@ class AppSettings(BaseModel):
         default=None, description="SQLite file of the game service (without Redis); None: memory"
     )
     workers: int | None = Field(default=None, ge=1, description="simulation processes")
+    names_per_address: int = Field(
+        default=NAMES_PER_ADDRESS, ge=1, description="names one client address may hold"
+    )
     grace: float = Field(
         default=GRACE, ge=0, le=3600, description="seconds before a gone player's win is claimable"
     )
@@ -59,6 +64,7 @@ def make_backend(settings: AppSettings) -> Backend:
 def create_app(settings: AppSettings | None = None) -> web.Application:
     """The application, its relay backend created on startup and closed on cleanup."""
     settings = settings or AppSettings()
+    one_line_bad_requests()
     app = web.Application()
     backend = make_backend(settings)
     relay = Relay.build(backend, settings.relay)
@@ -77,5 +83,6 @@ def create_app(settings: AppSettings | None = None) -> web.Application:
         redis_url=settings.redis_url,
         workers=settings.workers,
         grace=settings.grace,
+        names_per_address=settings.names_per_address,
     )
     return app

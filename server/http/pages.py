@@ -26,7 +26,7 @@ from rules.spots import BAULK_Y, D_RADIUS, SNOOKER_SPOTS, Point, Table
 from server.protocol.ids import GAMES
 
 #: Where `npm run build` writes the client.
-DIST = Path(__file__).resolve().parents[2] / "web" / "dist"
+DIST = Path(__file__).resolve().parents[2] / "web" / "dist"  # server/http/ -> the root
 
 
 #: Each page URL and the HTML file that answers it.

@@ -1,9 +1,11 @@
 """`billiards serve`: run the server (relay and game service) until interrupted.
 
 Tokens must outlive a restart (a player's token is its identity), so the signing key is read
-from the environment variable `BILLIARDS_RELAY_SECRET` or, without Redis, kept in the SQLite
-database itself (`--db`, created on first run). Replicas sharing one Redis must check
-each other's tokens, so they share the key through the environment variable.
+from the environment variable `BILLIARDS_RELAY_SECRET` or, without Redis, kept in a key file
+only the server's user can read (`--key-file`, by default the database path plus `.key`;
+created 0600 on first run and checked at every start: server/storage/signing_key.py, which
+also says how to rotate it). Replicas sharing one Redis must check each other's tokens, so
+they share the key through the environment variable.
 
 `--uvloop` runs the server on uvloop's event loop (libuv) instead of asyncio's own: the same
 code, cheaper socket writes and callbacks (see the relay benchmark). uvloop is not a dependency:
@@ -18,6 +20,7 @@ import argparse
 import asyncio
 import ipaddress
 import os
+from pathlib import Path
 
 
 def new_event_loop(use_uvloop: bool) -> asyncio.AbstractEventLoop:
@@ -36,19 +39,23 @@ def _serve(args: argparse.Namespace) -> int:
 
     from server.http import collector
     from server.http.app import AppSettings, create_app, relay_settings
-    from server.storage.sqlite import token_key
+    from server.storage.signing_key import signing_key
 
     secret = os.environ.get("BILLIARDS_RELAY_SECRET")
     if secret is None and args.redis is None:
-        secret = token_key(args.db)
+        secret = signing_key(Path(args.key_file or f"{args.db}.key"), Path(args.db))
     relay = relay_settings(
         auth_secret=secret,
         trusted_proxies=args.trusted_proxy,
         max_connections_per_address=args.max_connections_per_address,
     )
-    grace = {} if args.grace is None else {"grace": args.grace}
+    optional = {"grace": args.grace, "names_per_address": args.names_per_address}
     settings = AppSettings(
-        relay=relay, redis_url=args.redis, database=args.db, workers=args.workers, **grace
+        relay=relay,
+        redis_url=args.redis,
+        database=args.db,
+        workers=args.workers,
+        **{name: value for name, value in optional.items() if value is not None},
     )
     app = create_app(settings)
     collector.install(app)
@@ -72,6 +79,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--db", default="billiards.sqlite3", help="SQLite file of the game (without --redis)"
     )
+    parser.add_argument(
+        "--key-file", help="the token signing key, mode 0600 (default: the --db path + .key)"
+    )
     parser.add_argument("--workers", type=int, help="simulation processes (default: one per core)")
     parser.add_argument(
         "--grace",
@@ -79,6 +89,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         metavar="SECONDS",
         help="how long a disconnected player may stay away before the opponent may claim the "
         "win (default: server.game.tables.GRACE)",
+    )
+    parser.add_argument(
+        "--names-per-address",
+        type=int,
+        metavar="N",
+        help="guest names one client address may hold (default: server.game.service."
+        "NAMES_PER_ADDRESS)",
     )
     parser.add_argument(
         "--trusted-proxy",

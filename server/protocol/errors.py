@@ -25,6 +25,7 @@ class ErrorCode(StrEnum):
     ILLEGAL_INPUT = "illegal_input"
     CLAIM_MISMATCH = "claim_mismatch"
     DUPLICATE = "duplicate"
+    TOO_MANY_TABLES = "too_many_tables"
     RATE_LIMITED = "rate_limited"
     UNAVAILABLE = "unavailable"
 
@@ -45,6 +46,7 @@ STATUS: dict[ErrorCode, int] = {
     ErrorCode.ILLEGAL_INPUT: 422,
     ErrorCode.CLAIM_MISMATCH: 422,
     ErrorCode.DUPLICATE: 409,
+    ErrorCode.TOO_MANY_TABLES: 409,
     ErrorCode.RATE_LIMITED: 429,
     ErrorCode.UNAVAILABLE: 503,
 }

@@ -156,3 +156,6 @@ TARGET_MAX = 100
 MAX_BODY = 16 * 1024
 #: Largest claim body (bytes): a long game's record.
 MAX_RECORD_BODY = 1024 * 1024
+#: Shots in one answer of `GET /api/replays/{id}/shots` (a page; `?page=` asks for the next):
+#: a snooker frame's motion is tens of MB, more than one answer should carry.
+REPLAY_SHOTS_PAGE = 200

@@ -401,12 +401,17 @@ class ReplayShot(BaseModel):
 
 
 class ReplayShots(BaseModel):
-    """Every input of a replay with its outcome, computed by replaying the record."""
+    """A page of a replay's inputs with their outcomes, computed by replaying the record."""
 
     model_config = _ANSWER
 
     id: ReplayId
-    shots: list[ReplayShot] = Field(description="one per input of the record, in order")
+    page: int = Field(default=0, description="this page's number (from 0)")
+    shots: list[ReplayShot] = Field(
+        description="one per input of the record, in order: at most REPLAY_SHOTS_PAGE, those"
+        " from page * REPLAY_SHOTS_PAGE on"
+    )
+    next: int | None = Field(default=None, description="the next page's number; null: the last")
 
 
 class BreakEntry(BaseModel):
@@ -442,13 +447,16 @@ class LeaderboardMessage(BaseModel):
 
 
 class ClaimRequest(BaseModel):
-    """A break claimed from a game record (as `billiards selfplay --record` writes one)."""
+    """A break claimed from a game record (as `billiards selfplay --record` writes one), by
+    the player whose token comes with it: the entry carries that player's name."""
 
     model_config = _REQUEST
 
     game: GameName = Field(description="the leaderboard the break is claimed on")
     record: GameRecord
-    name: DisplayName
+    name: DisplayName | None = Field(
+        default=None, description="optional: the claiming player's own name (else refused)"
+    )
     score: json_int(1, 10_000)
 
 

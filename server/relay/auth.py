@@ -90,6 +90,8 @@ class TokenAuthority:
         """The claims of a genuine, unexpired token; AuthError(401) otherwise."""
         if not token:
             raise AuthError(401, "publishing needs a token (Authorization: Bearer or ?token=)")
+        if not token.isascii():  # a token is ASCII; PyJWT would fail to encode surrogates
+            raise AuthError(401, "token is malformed")
         claims = self._genuine(token)
         if claims.exp < self._clock():
             raise AuthError(401, "token has expired")

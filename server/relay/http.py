@@ -25,13 +25,19 @@ def relay_of(request: web.Request) -> Relay:
     return request.app[RELAY_KEY]
 
 
-def bearer_token(request: web.Request) -> str | None:
-    """The token from `Authorization: Bearer ...` or, failing that, `?token=`."""
+def bearer_token(request: web.Request, *, query: bool = True) -> str | None:
+    """The token from `Authorization: Bearer ...` or, with `query` and failing that, `?token=`.
+
+    The relay reads `?token=` because a browser's WebSocket cannot send headers, and a
+    WebSocket publishes with the token of its URL; the game API passes `query=False` (a token
+    in a URL ends up in access logs and browser history). A header of bytes that are not
+    ASCII is returned as it came (aiohttp keeps them as surrogates): `TokenAuthority.verify`
+    refuses it as malformed (401), as any other token it cannot read."""
     header = request.headers.get("Authorization", "")
     scheme, _, value = header.partition(" ")
     if scheme.lower() == "bearer" and value.strip():
         return value.strip()
-    return request.query.get("token")
+    return request.query.get("token") if query else None
 
 
 def limit_socket_buffer(request: web.Request, high: int) -> None:

@@ -69,6 +69,12 @@ What a backend must guarantee
    it once. `pending_challenges` lists a player's pending challenges, made or received.
    `touch_lobby` keeps a player present in the lobby until a time; `in_lobby` says whether it
    still is.
+15. **Unused guests expire.** A player's last sign of life is its `add_player` or its latest
+   successful `claim_name` (registering, and every heartbeat, claims its name).
+   `expire_players(before, limit)` deletes at most `limit` players whose last sign of life is
+   before `before` and who have no rating, earliest first, and returns their ids; a player
+   with a rating is never deleted. So players are not kept for ever: a guest who never played
+   a rated match is gone some time after it was last seen (server/game/expiry.py).
 """
 
 from __future__ import annotations
@@ -113,7 +119,8 @@ class Storage(ABC):
 
     # ----- players ----------------------------------------------------------------------
     @abstractmethod
-    async def add_player(self, player: PlayerInfo) -> None: ...
+    async def add_player(self, player: PlayerInfo, now: float) -> None:
+        """Store a player, last seen `now` (invariant 15)."""
 
     @abstractmethod
     async def get_player(self, player_id: str) -> PlayerInfo | None: ...
@@ -128,6 +135,10 @@ class Storage(ABC):
     async def online(self, now: float, limit: int) -> list[str]:
         """The ids of players whose name claim is unexpired at `now` (invariant 7), the most
         recently renewed first, at most `limit`."""
+
+    @abstractmethod
+    async def expire_players(self, before: float, limit: int) -> list[str]:
+        """Delete up to `limit` unrated players last seen before `before` (invariant 15)."""
 
     # ----- tables -----------------------------------------------------------------------
     @abstractmethod

@@ -9,7 +9,8 @@ replica sends it. Keys, all prefixed `game:`:
 - `h:{id}` the heartbeats of its seats; `listed` a sorted set of listed tables by creation;
   `deadlines` a sorted set of tables by shot-clock deadline; `expiry` a sorted set of every
   table by the time it may be dropped (`TableRecord.expires`);
-- `p:{id}` players; `n:{key}` name claims (expiring) and `online` the claims by expiry;
+- `p:{id}` players and `seen` the unrated ones by their last sign of life (invariant 15);
+  `n:{key}` name claims (expiring) and `online` the claims by expiry;
 - `r:{player}` a hash game -> rating (its `games` count is the compare-and-set stamp),
   `rated` the set of tables whose result was rated;
 - `rp:{id}` replays; `bk` the set of break keys, `be` a hash key -> break, `lb:{game}` a
@@ -93,7 +94,28 @@ if holder and holder ~= ARGV[1] then return 0 end
 redis.call('SET', KEYS[1], ARGV[1], 'PX', ARGV[4])
 redis.call('ZADD', KEYS[2], ARGV[2], KEYS[1])
 redis.call('ZREMRANGEBYSCORE', KEYS[2], '-inf', '(' .. ARGV[3])
+redis.call('ZADD', KEYS[3], ARGV[3], ARGV[1])
 return 1
+"""
+
+# KEYS: seen. ARGV: before, limit, key prefix. Unrated players last seen before `before`
+# leave (invariant 15); rated ones leave the `seen` set alone, kept for good.
+_EXPIRE_PLAYERS = """
+local limit = tonumber(ARGV[2])
+local gone = {}
+while #gone < limit do
+  local ids = redis.call('ZRANGEBYSCORE', KEYS[1], '-inf', '(' .. ARGV[1], 'LIMIT', 0,
+                         limit - #gone)
+  if #ids == 0 then break end
+  for _, id in ipairs(ids) do
+    redis.call('ZREM', KEYS[1], id)
+    if redis.call('EXISTS', ARGV[3] .. 'r:' .. id) == 0 then
+      redis.call('DEL', ARGV[3] .. 'p:' .. id)
+      table.insert(gone, id)
+    end
+  end
+end
+return gone
 """
 
 # KEYS: queue, caller's status. ARGV: player, waiting status, paired status (without its
@@ -205,6 +227,7 @@ class RedisStorage(Storage):
         self._accept = self._redis.register_script(_ACCEPT)
         self._swap_script = self._redis.register_script(_SWAP)
         self._claim = self._redis.register_script(_CLAIM)
+        self._expire_players = self._redis.register_script(_EXPIRE_PLAYERS)
         self._pair = self._redis.register_script(_PAIR)
         self._cancel = self._redis.register_script(_CANCEL)
         self._touch_quick = self._redis.register_script(_TOUCH_QUICK)
@@ -228,8 +251,11 @@ class RedisStorage(Storage):
         await self._redis.aclose()
 
     # ----- players ----------------------------------------------------------------------
-    async def add_player(self, player: PlayerInfo) -> None:
-        await self._redis.set(f"{P}p:{player.id}", dump(player))
+    async def add_player(self, player: PlayerInfo, now: float) -> None:
+        async with self._redis.pipeline(transaction=True) as pipe:
+            pipe.set(f"{P}p:{player.id}", dump(player))
+            pipe.zadd(f"{P}seen", {player.id: now})
+            await pipe.execute()
 
     async def get_player(self, player_id: str) -> PlayerInfo | None:
         doc = await self._redis.get(f"{P}p:{player_id}")
@@ -237,8 +263,12 @@ class RedisStorage(Storage):
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
         ttl_ms = max(1, int((until - now) * 1000))
-        keys = [f"{P}n:{key}", f"{P}online"]
+        keys = [f"{P}n:{key}", f"{P}online", f"{P}seen"]
         return bool(await self._claim(keys=keys, args=[player_id, until, now, ttl_ms]))
+
+    async def expire_players(self, before: float, limit: int) -> list[str]:
+        gone = await self._expire_players(keys=[f"{P}seen"], args=[repr(before), limit, P])
+        return [i.decode() if isinstance(i, bytes) else i for i in gone]
 
     async def online_players(self, now: float) -> int:
         return await self._redis.zcount(f"{P}online", now, "+inf")

@@ -23,7 +23,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import itertools
-import secrets
 import sqlite3
 import time
 from collections import OrderedDict
@@ -54,7 +53,7 @@ CACHED_TABLES = 1024
 #: (its trajectory is most of a record's bytes) changes once per shot, the document twice.
 _DOC = {"last_outcome"}
 SCHEMA = """
-CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL, seen REAL);
 CREATE TABLE IF NOT EXISTS names (key TEXT PRIMARY KEY, player TEXT NOT NULL, until REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS tables (
     id TEXT PRIMARY KEY, version INTEGER NOT NULL, pending TEXT NOT NULL,
@@ -95,17 +94,21 @@ CREATE TABLE IF NOT EXISTS quick (
 """
 
 
-def token_key(path: str | Path) -> str:
-    """The token signing key kept in the database file, created on first use.
-
-    Read once at start-up, before the event loop runs (so plain `sqlite3`): a key that lives
-    with the data survives restarts and backups with it, and so do the players' tokens.
-    """
+def take_legacy_token_key(path: str | Path) -> str | None:
+    """The token signing key an older server kept in the database's `secrets` table, removed
+    from it (server/storage/signing_key.py keeps it now, in a file only its user reads); None
+    if the database or the table is not there. Plain `sqlite3`: it runs once, at start-up."""
+    if not Path(path).exists():
+        return None
     with contextlib.closing(sqlite3.connect(str(path))) as db, db:
-        db.execute("CREATE TABLE IF NOT EXISTS secrets (name TEXT PRIMARY KEY, value TEXT)")
-        db.execute("INSERT OR IGNORE INTO secrets VALUES ('tokens', ?)", (secrets.token_hex(32),))
-        (value,) = db.execute("SELECT value FROM secrets WHERE name = 'tokens'").fetchone()
-    return value
+        found = db.execute("SELECT name FROM sqlite_master WHERE name = 'secrets'").fetchone()
+        if found is None:
+            return None
+        row = db.execute("SELECT value FROM secrets WHERE name = 'tokens'").fetchone()
+        db.execute("DROP TABLE secrets")
+    with contextlib.closing(sqlite3.connect(str(path))) as db:
+        db.execute("VACUUM")  # the dropped key's pages are rewritten, not left in the file
+    return None if row is None else row[0]
 
 
 async def _add_columns(db: aiosqlite.Connection) -> None:
@@ -126,6 +129,12 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
             outcome = record.last_outcome and dump(record.last_outcome)
             moved = (dump(record, exclude=_DOC), outcome, table_id)
             await db.execute("UPDATE tables SET doc = ?, outcome = ? WHERE id = ?", moved)
+    async with db.execute("PRAGMA table_info(players)") as cursor:
+        if "seen" not in {row[1] for row in await cursor.fetchall()}:
+            # Players from before invariant 15 are seen now: they expire as if new.
+            await db.execute("ALTER TABLE players ADD COLUMN seen REAL")
+            await db.execute("UPDATE players SET seen = unixepoch()")
+    await db.execute("CREATE INDEX IF NOT EXISTS players_seen ON players (seen)")
     async with db.execute("PRAGMA table_info(quick)") as cursor:
         if "alive" not in {row[1] for row in await cursor.fetchall()}:
             # Requests queued before they could lapse lapse at once (invariant 11).
@@ -188,25 +197,37 @@ class SqliteStorage(Storage):
             self._tables.popitem(last=False)
 
     # ----- players ----------------------------------------------------------------------
-    async def add_player(self, player: PlayerInfo) -> None:
+    async def add_player(self, player: PlayerInfo, now: float) -> None:
         doc = dump(player)
-        await self._alone("INSERT OR REPLACE INTO players VALUES (?, ?)", player.id, doc)
+        await self._alone("INSERT OR REPLACE INTO players VALUES (?, ?, ?)", player.id, doc, now)
 
     async def get_player(self, player_id: str) -> PlayerInfo | None:
         row = await self._one("SELECT doc FROM players WHERE id = ?", player_id)
         return load(PlayerInfo, row[0]) if row else None
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
-        changed = await self._alone(
-            "INSERT INTO names VALUES (?, ?, ?) ON CONFLICT (key) DO UPDATE SET "
-            "player = excluded.player, until = excluded.until "
-            "WHERE names.player = excluded.player OR names.until < ?",
-            key,
-            player_id,
-            until,
-            now,
-        )
-        return changed == 1
+        async with self._transaction() as db:
+            claimed = await db.execute(
+                "INSERT INTO names VALUES (?, ?, ?) ON CONFLICT (key) DO UPDATE SET "
+                "player = excluded.player, until = excluded.until "
+                "WHERE names.player = excluded.player OR names.until < ?",
+                (key, player_id, until, now),
+            )
+            if claimed.rowcount != 1:
+                return False
+            await db.execute("UPDATE players SET seen = ? WHERE id = ?", (now, player_id))
+        return True
+
+    async def expire_players(self, before: float, limit: int) -> list[str]:
+        async with self._transaction() as db:
+            rows = await db.execute_fetchall(
+                "SELECT id FROM players WHERE seen < ? AND id NOT IN "
+                "(SELECT player FROM ratings) ORDER BY seen LIMIT ?",
+                (before, limit),
+            )
+            ids = [player_id for (player_id,) in rows]
+            await db.executemany("DELETE FROM players WHERE id = ?", [(i,) for i in ids])
+        return ids
 
     async def online_players(self, now: float) -> int:
         row = await self._one("SELECT COUNT(*) FROM names WHERE until >= ?", now)

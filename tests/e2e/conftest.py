@@ -61,6 +61,7 @@ class Server:
     def start(self) -> None:
         command = [sys.executable, "-m", "server.cli", "serve", "--port", str(self.port)]
         command += ["--grace", str(GRACE_S)]
+        command += ["--names-per-address", "1000"]  # every browser of the suite is on loopback
         env = {**os.environ, "BILLIARDS_RELAY_SECRET": "e2e-secret-0123456789abcdef0123456789"}
         self.log = open(self.directory / "server.log", "ab")  # noqa: SIM115 (closed in stop)
         self.process = subprocess.Popen(

@@ -173,6 +173,7 @@ def test_a_runaway_shot_ends_with_the_budget_error():
         ('{"balls": {"café": [0.5, 0.5]}}'.encode("latin-1"), "UTF-8"),
         (b" " * (MAX_SCENE_BYTES + 1), "at most"),
         (b"[1, 2]", "JSON object"),
+        (b'{"balls": {"cue": [0.5, 0.5], "cue": [0.6, 0.5]}}', "duplicate key 'cue'"),
         (json.dumps(RUNAWAY).encode(), "budget"),
     ],
 )

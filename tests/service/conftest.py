@@ -72,6 +72,17 @@ def a_table(
     return new_table(table_id, create, ADA, seed=7)
 
 
+class Ticks:
+    """A clock that moves one second each time it is read: what is timed with it took 1 s."""
+
+    def __init__(self) -> None:
+        self.now = 0.0
+
+    def __call__(self) -> float:
+        self.now += 1.0
+        return self.now
+
+
 # ----- a running server and clients of its API ------------------------------------------------
 SECRET = "service-test-secret-0123456789abcdef"
 WAIT_S = 30.0  # bound on waits for outcomes on a loaded machine; no test asserts on time

@@ -63,7 +63,8 @@ async def test_submit_prints_the_verdict_or_the_reason(server: TestClient, tmp_p
         best = max(refereeing.verify(record_path.read_bytes()).best)
         if best > 0:
             break
-    args = ("submit", url, str(record_path), "--name", "Cy")
+    cy = await register(server, "Cy")
+    args = ("submit", url, str(record_path), "--token", cy.token)
     code, _, err = await finish(await run(*args, "--score", str(best + 1)))
     assert code == 2 and err.strip() == (
         f"refused: claim_mismatch: the record's best break is {best}, not {best + 1}"

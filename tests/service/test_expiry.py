@@ -8,11 +8,12 @@ import time
 from aiohttp.test_utils import TestClient
 
 from server.game.expiry import sweep
+from server.game.identity import GUEST_KEPT
 from server.game.tables import KEEP_IDLE
 from server.http.app import SERVICE_BUFFER
 from server.protocol.ids import table_channel as channel_of
 from server.relay.payloads import JSON
-from tests.service.conftest import a_table, service_of
+from tests.service.conftest import a_table, register, service_of
 
 
 async def test_a_sweep_drops_expired_tables_and_their_channels(server: TestClient) -> None:
@@ -41,3 +42,14 @@ async def test_a_table_channels_backlog_is_bounded_in_bytes(server: TestClient) 
     backlog = await backend.read_since(channel, None, SERVICE_BUFFER.buffer_length)
     kept = sum(len(m.data) for m in backlog.messages)
     assert 0 < kept <= SERVICE_BUFFER.buffer_bytes and len(backlog.messages) < 20
+
+
+async def test_a_sweep_drops_guests_unused_for_a_day(server: TestClient) -> None:
+    """Before: every registered guest stayed in storage for good."""
+    service = service_of(server)
+    ada = await register(server, "Ada")
+    now = time.time()
+    await sweep(service.storage, service.publisher, now + GUEST_KEPT - 60)
+    assert await service.storage.get_player(ada.info["id"]) is not None  # seen a day ago
+    await sweep(service.storage, service.publisher, now + GUEST_KEPT + 60)
+    assert await service.storage.get_player(ada.info["id"]) is None

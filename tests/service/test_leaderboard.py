@@ -7,10 +7,12 @@ import json
 from aiohttp.test_utils import TestClient
 
 from rules.game import Setup
+from rules.record import GameRecord, replay
 from rules.selfplay import selfplay
 from server.client.api_client import from_json
-from server.game import refereeing
-from tests.service.conftest import register, watch
+from server.game import refereeing, visits
+from server.game.budget import WorkBudget
+from tests.service.conftest import Player, Ticks, register, service_of, watch
 from tests.service.test_match import picked
 
 
@@ -41,6 +43,10 @@ async def test_a_finished_rack_has_a_replay_and_its_break_enters_the_leaderboard
         assert top["breaks"][0]["score"] == max(best)
         assert top["breaks"][0]["source"] == "practice"
         assert (await board.next_kind("leaderboard"))["breaks"] == top["breaks"]
+        # The same break claimed from the rack's record is the break already entered.
+        claim = {"game": "nineball", "record": saved["record"], "score": max(best)}
+        status, refused = await ada.call("POST", "/api/leaderboard/claims", claim)
+        assert (status, refused["code"]) == (409, "duplicate")
     else:
         assert top["breaks"] == []
 
@@ -52,11 +58,11 @@ def _record(seed: int) -> tuple[dict, int]:
 
 async def test_claims_are_replayed_and_refused_when_they_do_not_hold(server: TestClient) -> None:
     record, best = next((r, b) for r, b in map(_record, range(1, 20)) if b > 1)
-    claim = {"game": "nineball", "record": record, "name": "Cy", "score": best}
+    claim = {"game": "nineball", "record": record, "score": best}
+    cy = await register(server, "Cy")
 
     async def submit(body: dict) -> tuple[int, dict]:
-        response = await server.post("/api/leaderboard/claims", json=body)
-        return response.status, await response.json()
+        return await cy.call("POST", "/api/leaderboard/claims", body)
 
     status, verdict = await submit(claim | {"score": best + 1})
     assert (status, verdict["code"]) == (422, "claim_mismatch")
@@ -88,3 +94,110 @@ async def test_claims_are_replayed_and_refused_when_they_do_not_hold(server: Tes
     mine = await (await server.get("/api/leaderboard/nineball/players/Cy")).json()
     assert mine["score"] == best and mine["source"] == "claim"
     assert (await server.get("/api/leaderboard/nineball/players/Nobody")).status == 404
+
+
+# ----- one break, one entry; claims by players; cheap refusals first -------------------------
+def _played(setup: Setup, max_inputs: int) -> tuple[GameRecord, list]:
+    record, _ = selfplay(setup, max_inputs=max_inputs)
+    played = replay(record)
+    return record, [(step.action, step.state) for step in played.steps]
+
+
+def _cut(record: GameRecord, steps: list, n: int) -> dict:
+    """The record of the game's first `n` inputs, its digests recomputed (as anyone can)."""
+    cut = GameRecord.begin(record.setup)
+    for action, state in steps[:n]:
+        cut = cut.extend(action, state)
+    return json.loads(cut.to_json())
+
+
+async def _claim(player: Player, record: dict, score: int, game: str = "nineball") -> tuple:
+    body = {"game": game, "record": record, "score": score}
+    status, answer = await player.call("POST", "/api/leaderboard/claims", body)
+    return status, answer.get("code"), answer
+
+
+def _best_visit(record: GameRecord, steps: list) -> visits.Visit:
+    found = [v for v in visits.best_visits(replay(record).start, steps) if v is not None]
+    return max(found, key=lambda v: steps[v.last][1].best[v.player])
+
+
+async def test_a_break_is_one_entry_whatever_surrounds_it(server: TestClient) -> None:
+    """A record cut after its best visit, or cut there with one input more, is the break
+    already claimed (before: each was another entry of the same break)."""
+    for seed in range(1, 40):
+        record, steps = _played(Setup(game="nineball", seed=seed), 80)
+        best = max(steps[-1][1].best)
+        if best > 1 and _best_visit(record, steps).last + 2 < len(steps):
+            break
+    visit = _best_visit(record, steps)
+    cy, dee = await register(server, "Cy"), await register(server, "Dee")
+    status, _, first = await _claim(cy, json.loads(record.to_json()), best)
+    assert status == 201 and first["entry"]["name"] == "Cy"
+    for n in (visit.last + 1, visit.last + 2):
+        status, code, _ = await _claim(dee, _cut(record, steps, n), best)
+        assert (status, code) == (409, "duplicate"), n
+    board = (await (await server.get("/api/leaderboard/nineball")).json())["breaks"]
+    assert [entry["name"] for entry in board] == ["Cy"]
+
+
+async def test_three_cushion_ignores_the_seed_and_claims_need_the_standard_rack(
+    server: TestClient,
+) -> None:
+    """Three-cushion's start does not depend on its seed: the same inputs under another seed
+    are the same break (before: 15 entries of one run). A rack gap is refused unreplayed."""
+    games = (_played(Setup(game="three_cushion", seed=n), 60) for n in range(1, 30))
+    record, steps = next((r, s) for r, s in games if max(s[-1][1].best) > 0)
+    best = max(steps[-1][1].best)
+    cy = await register(server, "Cy")
+    data = json.loads(record.to_json())
+    status, _, _ = await _claim(cy, data, best, "three_cushion")
+    assert status == 201
+    reseeded = data | {"setup": data["setup"] | {"seed": data["setup"]["seed"] + 1}}
+    status, code, _ = await _claim(cy, reseeded, best, "three_cushion")
+    assert (status, code) == (409, "duplicate")
+    breaks = service_of(server).breaks
+    replayed = breaks.replayed
+    for setup in ({"gap": 0.001}, {"target": 40}):
+        other = data | {"setup": data["setup"] | setup}
+        status, code, answer = await _claim(cy, other, best, "three_cushion")
+        assert (status, code) == (422, "claim_mismatch") and "standard" in answer["reason"]
+    assert breaks.replayed == replayed  # refused before any replay
+
+
+async def test_a_claim_is_made_by_a_player_under_its_own_name(server: TestClient) -> None:
+    """Before: claims needed no token and carried a free name."""
+    record, best = next((r, b) for r, b in map(_record, range(1, 20)) if b > 1)
+    claim = {"game": "nineball", "record": record, "score": best}
+    anonymous = await server.post("/api/leaderboard/claims", json=claim | {"name": "Ada"})
+    assert (anonymous.status, (await anonymous.json())["code"]) == (401, "unauthorized")
+    await register(server, "Ada")
+    eve = await register(server, "Eve")
+    status, refused = await eve.call("POST", "/api/leaderboard/claims", claim | {"name": "Ada"})
+    assert (status, refused["code"]) == (403, "forbidden")
+    _, verdict = await eve.call("POST", "/api/leaderboard/claims", claim, 201)
+    assert verdict["entry"]["name"] == "Eve" and verdict["entry"]["player"] == eve.info["id"]
+    assert verdict["entry"]["source"] == "claim"
+    assert (await server.get("/api/leaderboard/nineball/players/Ada")).status == 404
+
+
+async def test_repeated_claims_are_refused_without_a_replay(server: TestClient) -> None:
+    """A claim of a record replayed before, duplicate or wrong, costs no replay; a holder out of
+    worker time is refused before one (before: every claim replayed its whole record)."""
+    (record, best), (other, other_best), (third, third_best) = [
+        (r, b) for r, b in map(_record, range(1, 60)) if b > 1
+    ][:3]
+    cy, dee = await register(server, "Cy"), await register(server, "Dee")
+    breaks = service_of(server).breaks
+    assert (await _claim(cy, record, best + 1))[:2] == (422, "claim_mismatch")
+    assert (await _claim(cy, record, best))[0] == 201
+    replayed = breaks.replayed
+    assert (await _claim(dee, record, best + 1))[:2] == (422, "claim_mismatch")
+    assert (await _claim(dee, record, best))[:2] == (409, "duplicate")
+    assert breaks.replayed == replayed
+    # Parsing and replaying each take 1 s on this clock: one replay empties a holder's minute.
+    breaks.budget = WorkBudget(1.5, "your claims", Ticks())
+    assert (await _claim(dee, other, other_best + 1))[:2] == (422, "claim_mismatch")
+    assert (await _claim(dee, third, third_best))[:2] == (429, "rate_limited")
+    assert (await _claim(dee, other, other_best))[:2] == (429, "rate_limited")  # unread
+    assert breaks.replayed == replayed + 1

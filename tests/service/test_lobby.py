@@ -8,15 +8,17 @@ import time
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server.game import lobby
-from server.game.lobby import BATCH
+from server.game import lobby, tables
+from server.game.lobby import BATCH, OPEN_PER_PLAYER
 from server.protocol.ids import new_table_id
-from tests.service.conftest import Watcher, register, service_of, watch
+from server.protocol.models import PlayerInfo, TableCreate
+from tests.service.conftest import StartServer, Watcher, register, service_of, watch
 
 
 async def test_one_hundred_simultaneous_quick_match_requests_seat_everyone_once(
-    server: TestClient,
+    start_server: StartServer,
 ) -> None:
+    server = await start_server(names_per_address=100)  # all 100 come from one address
     players = [await register(server, f"Q{i}") for i in range(100)]
     answers = await asyncio.gather(
         *(p.call("POST", "/api/quick", {"game": "eightball"}, 200) for p in players)
@@ -146,3 +148,28 @@ async def test_a_thousand_players_arriving_cost_a_few_lobby_snapshots(server: Te
     snapshots = await snapshots_until_quiet(lobby)
     assert snapshots[-1]["players_online"] == 1000  # the last value wins
     assert len(snapshots) <= elapsed / BATCH + 2  # one per batch period at most
+
+
+async def test_one_player_keeps_a_few_open_tables_and_the_lobby_shows_everyones(
+    server: TestClient,
+) -> None:
+    """Before: one player's 100 new tables in 0.3 s pushed every other open table out of the
+    lobby (the newest 100)."""
+    ada, eve = await register(server, "Ada"), await register(server, "Eve")
+    adas = await ada.create("nineball")
+    for _ in range(OPEN_PER_PLAYER):
+        await eve.create("nineball")
+    status, refused = await eve.call("POST", "/api/tables", {"game": "nineball"})
+    assert (status, refused["code"]) == (409, "too_many_tables")
+    await eve.call("POST", "/api/tables", {"game": "nineball", "private": True}, 201)
+    # A flood from storage itself (as many holders would make it): still one lobby for all.
+    storage = service_of(server).storage
+    flooder = PlayerInfo(id="p_" + "f" * 16, name="Flood")
+    for _ in range(150):
+        record = tables.new_table(new_table_id(), TableCreate(game="nineball"), flooder, 1)
+        await storage.create_table(record)
+    listed = (await (await server.get("/api/tables")).json())["tables"]
+    ids = {table["id"] for table in listed}
+    assert adas["id"] in ids
+    by_flooder = [t for t in listed if any(s and s["id"] == flooder.id for s in t["seats"])]
+    assert len(by_flooder) == OPEN_PER_PLAYER

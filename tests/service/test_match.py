@@ -123,6 +123,9 @@ async def test_bad_bodies_get_json_errors_with_codes(server: TestClient) -> None
         ("[" * 100_000 + "]" * 100_000, 413, "body_too_large"),
         ("[" * 5000 + "]" * 5000, 400, "bad_request"),
         ("{not json", 400, "bad_request"),
+        # A key twice is refused, not read as its last value (the version 0 would be stale).
+        (json.dumps(shot)[:-1] + ', "version": 0}', 400, "bad_request"),
+        (json.dumps(shot).replace('"speed": ', '"speed": 1.0, "speed": '), 400, "bad_request"),
     ]  # fmt: skip
     for body, status, code in cases:
         response = await server.post(

@@ -12,21 +12,30 @@ from aiohttp.test_utils import TestClient
 import physics
 from rules.record import GameRecord, replay
 from server.game import replays
-from server.game.replays import ReplayShotsCache, shots_json
+from server.game.budget import WorkBudget
+from server.game.replays import ReplayShotsCache, shots_pages
 from server.protocol.errors import ErrorCode, ServiceError
+from server.protocol.ids import REPLAY_SHOTS_PAGE
 from server.protocol.models import ReplayView
 from server.storage import Storage
-from tests.service.conftest import register, watch
+from tests.service.conftest import Ticks, register, watch
 from tests.service.test_leaderboard import _record
 from tests.service.test_match import picked
 
 
 async def _shots(server: TestClient, replay_id: str) -> list[dict[str, Any]]:
-    response = await server.get(f"/api/replays/{replay_id}/shots")
-    body = await response.json()
-    assert response.status == 200, body
-    assert body["id"] == replay_id
-    return body["shots"]
+    """Every shot of a replay, page after page."""
+    shots: list[dict[str, Any]] = []
+    page: int | None = 0
+    while page is not None:
+        response = await server.get(f"/api/replays/{replay_id}/shots?page={page}")
+        body = await response.json()
+        assert response.status == 200, body
+        assert body["id"] == replay_id and body["page"] == page
+        assert len(body["shots"]) <= REPLAY_SHOTS_PAGE
+        shots += body["shots"]
+        page = body["next"]
+    return shots
 
 
 def _final_state(record: dict[str, Any]) -> dict[str, Any]:
@@ -60,10 +69,9 @@ async def test_a_practice_racks_shots_are_its_live_outcomes(server: TestClient) 
 
 async def test_a_claimed_breaks_shots_replay_its_record(server: TestClient) -> None:
     record, best = next((r, b) for r, b in map(_record, range(1, 20)) if b > 1)
-    claim = {"game": "nineball", "record": record, "name": "Cy", "score": best}
-    response = await server.post("/api/leaderboard/claims", json=claim)
-    verdict = await response.json()
-    assert response.status == 201, verdict
+    claim = {"game": "nineball", "record": record, "score": best}
+    cy = await register(server, "Cy")
+    _, verdict = await cy.call("POST", "/api/leaderboard/claims", claim, 201)
     shots = await _shots(server, verdict["replay"]["id"])
     assert [shot["input"] for shot in shots] == verdict["replay"]["record"]["inputs"]
     assert shots[-1]["state"] == _final_state(record)
@@ -80,10 +88,10 @@ class HeldPool:
         self.release = asyncio.Event()
         self.calls: list[str] = []
 
-    async def replay_shots(self, replay_id: str, record: GameRecord) -> bytes:
+    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
         self.calls.append(replay_id)
         await self.release.wait()
-        return shots_json(replay_id, record)
+        return shots_pages(replay_id, record)
 
 
 def _replay_view(replay_id: str, record: dict[str, Any]) -> ReplayView:
@@ -137,7 +145,7 @@ async def test_a_record_that_does_not_replay_is_refused(storage: Storage) -> Non
 class AbandoningPool:
     """A stand-in for the worker pool whose engine abandons the record's first shot."""
 
-    async def replay_shots(self, replay_id: str, record: GameRecord) -> bytes:
+    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
         raise physics.BudgetExceeded("input #1: the shot went past the engine's budget")
 
 
@@ -149,3 +157,41 @@ async def test_a_record_whose_shot_the_engine_abandons_is_refused_not_a_500(
     with pytest.raises(ServiceError) as refused:
         await ReplayShotsCache(storage, AbandoningPool()).shots("d" * 24)  # type: ignore[arg-type]
     assert refused.value.code is ErrorCode.ILLEGAL_INPUT and "input #1" in refused.value.reason
+
+
+def test_a_long_replay_comes_in_pages_that_name_the_next(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Before: one answer held every shot (19.8 MB for a long snooker frame)."""
+    record, _ = _record(2)
+    monkeypatch.setattr(replays, "REPLAY_SHOTS_PAGE", 4)
+    pages = [json.loads(page) for page in shots_pages("a" * 24, GameRecord.model_validate(record))]
+    assert len(pages) == -(-len(record["inputs"]) // 4) > 1
+    assert [page["page"] for page in pages] == list(range(len(pages)))
+    assert [page["next"] for page in pages] == [*range(1, len(pages)), None]
+    assert all(len(page["shots"]) <= 4 for page in pages)
+    inputs = [shot["input"] for page in pages for shot in page["shots"]]
+    played = GameRecord.model_validate(record).inputs
+    assert inputs == [action.model_dump(mode="json") for action in played]
+
+
+async def test_an_address_that_spent_its_worker_time_is_refused_before_work(
+    storage: Storage,
+) -> None:
+    """Before: any unauthenticated request could make the server replay a long record again."""
+    record, _ = _record(2)
+    first, second = "a" * 24, "b" * 24
+    for replay_id in (first, second):
+        await storage.add_replay(_replay_view(replay_id, record))
+    pool = HeldPool()
+    pool.release.set()
+    cache = ReplayShotsCache(storage, pool)  # type: ignore[arg-type]
+    cache.budget = WorkBudget(0.5, "your replays", Ticks())
+    await cache.shots(first, 0, "10.0.0.1")
+    with pytest.raises(ServiceError) as refused:
+        await cache.shots(second, 0, "10.0.0.1")
+    assert refused.value.code is ErrorCode.RATE_LIMITED and pool.calls == [first]
+    assert await cache.shots(first, 0, "10.0.0.1")  # kept: costs nothing
+    await cache.shots(second, 0, "10.0.0.2")  # another address has its own minute
+    assert pool.calls == [first, second]
+    with pytest.raises(ServiceError) as missing:
+        await cache.shots(second, 1, "10.0.0.2")
+    assert missing.value.code is ErrorCode.NOT_FOUND

@@ -14,7 +14,7 @@ from server.game.actor import rate
 from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join, played
-from server.protocol.models import BreakEntry, Ending, Source, Status
+from server.protocol.models import BreakEntry, Ending, PlayerInfo, Source, Status
 from server.storage import AcceptResult, RateResult, Storage
 from server.storage.sqlite import SCHEMA, SqliteStorage
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
@@ -33,7 +33,7 @@ def pending(record: TableRecord, shot_id: str, rack: int = 1) -> TableRecord:
 
 
 async def test_players_and_name_claims(storage: Storage) -> None:
-    await storage.add_player(ADA)
+    await storage.add_player(ADA, 0.0)
     assert await storage.get_player("p_ada") == ADA
     assert await storage.get_player("p_nobody") is None
     now = time.time()
@@ -46,6 +46,25 @@ async def test_players_and_name_claims(storage: Storage) -> None:
     later = time.time()
     assert expired and await storage.claim_name("bob", "p_ada", later + 60, later)
     assert await storage.online_players(later) == 2
+
+
+async def test_unused_guests_expire_and_rated_players_stay(storage: Storage) -> None:
+    """Invariant 13 (before: player rows were never deleted)."""
+    old = [PlayerInfo(id=f"p_{n:016x}", name=f"guest {n}") for n in range(5)]
+    for seen, player in enumerate(old):
+        await storage.add_player(player, 100.0 + seen)
+    await storage.claim_name("guest0", old[0].id, 600.0, 500.0)  # seen again at 500
+    assert await storage.rate("c" * 20, "nineball", {old[1].id: Rating(games=1)}) is (
+        RateResult.RATED
+    )
+    assert await storage.expire_players(400.0, 2) == [old[2].id, old[3].id]  # earliest first
+    assert await storage.expire_players(400.0, 10) == [old[4].id]
+    assert await storage.expire_players(400.0, 10) == []
+    for player in old[2:]:
+        assert await storage.get_player(player.id) is None
+    assert await storage.get_player(old[0].id) == old[0]  # seen since
+    assert await storage.get_player(old[1].id) == old[1]  # rated: kept for good
+    assert await storage.expire_players(10_000.0, 10) == [old[0].id]
 
 
 async def test_a_table_reads_back_after_reopening(open_storage: OpenStorage) -> None:

@@ -350,17 +350,20 @@ async def test_a_claim_near_the_body_limit_passes_nginx(topology: Topology) -> N
     """A leaderboard claim padded to the server's own limit reaches a replica whole; one byte
     more is refused by the replica (its JSON 413), not by nginx's client_max_body_size."""
     record, best = next((r, b) for r, b in map(_record, range(1, 20)) if b > 1)
-    claim = json.dumps({"game": "nineball", "record": record, "name": "Cy", "score": best})
-    status, verdict = await post_claim(topology, claim.ljust(MAX_RECORD_BODY))
+    claim = json.dumps({"game": "nineball", "record": record, "score": best})
+    async with topology.http.post(f"{topology.url}/api/players", json={"name": "Cy"}) as answer:
+        token = (await answer.json())["token"]
+    status, verdict = await post_claim(topology, claim.ljust(MAX_RECORD_BODY), token)
     assert status == 201 and verdict["entry"]["score"] == best
-    status, refusal = await post_claim(topology, claim.ljust(MAX_RECORD_BODY + 1))
+    status, refusal = await post_claim(topology, claim.ljust(MAX_RECORD_BODY + 1), token)
     assert (status, refusal["code"]) == (413, "body_too_large")
 
 
-async def post_claim(topology: Topology, body: str) -> tuple[int, dict]:
+async def post_claim(topology: Topology, body: str, token: str) -> tuple[int, dict]:
     """A claim's status and JSON answer; only a replica answers JSON (nginx's own refusals are
     HTML pages), so a body nginx stopped fails here."""
-    url, headers = f"{topology.url}/api/leaderboard/claims", {"Content-Type": "application/json"}
+    url = f"{topology.url}/api/leaderboard/claims"
+    headers = {"Content-Type": "application/json", "Authorization": f"Bearer {token}"}
     async with topology.http.post(url, data=body, headers=headers) as response:
         assert response.content_type == "application/json", await response.text()
         return response.status, await response.json()

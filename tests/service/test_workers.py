@@ -6,13 +6,11 @@ import asyncio
 import os
 import time
 from concurrent.futures.process import BrokenProcessPool
-from pathlib import Path
 
 import pytest
 
 from server.game import refereeing
 from server.game.workers import WorkerPool
-from server.storage.sqlite import SqliteStorage, token_key
 
 
 async def test_a_dead_worker_is_replaced_and_the_next_shot_is_played() -> None:
@@ -65,12 +63,3 @@ async def test_calls_beyond_the_workers_wait_their_turn() -> None:
         assert values == list(range(10))
     finally:
         pool.close()
-
-
-async def test_the_token_key_lives_in_the_database(tmp_path: Path) -> None:
-    path = tmp_path / "game.sqlite3"
-    key = token_key(path)
-    assert len(key) == 64 and token_key(path) == key
-    storage = await SqliteStorage.open(path)  # the same file serves the game
-    await storage.close()
-    assert token_key(path) == key

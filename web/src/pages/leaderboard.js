@@ -1,12 +1,13 @@
 // /leaderboard/{game}: the game's highest breaks (GET /api/leaderboard/{game}, kept live from
 // the `public-leaderboard` channel), each opening its replay; and a form to claim a break from
-// a game record, which the server replays and checks before it enters.
-import { get, post, storedPlayer } from "../net/api.js";
+// a game record, which the server replays and checks before it enters. A claim is made as a
+// player (its token): the stored one if it has the name typed, else a new guest of that name.
+import { currentPlayer, get, post, register, storedPlayer } from "../net/api.js";
 import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
 
 const $ = (id) => document.getElementById(id);
-const SOURCES = { match: "a match", practice: "practice", claim: "a claimed record" };
+const SOURCES = { match: "played here: a match", practice: "played here: practice", claim: "submitted record, replayed here" };
 
 function cell(text) {
   const td = document.createElement("td");
@@ -41,7 +42,10 @@ async function claim(game) {
     const file = $("claim-file").files[0];
     const text = file ? await file.text() : $("claim-record").value;
     const record = JSON.parse(text);
-    const answer = await post("/api/leaderboard/claims", { game, record, name: $("claim-name").value.trim(), score: Number($("claim-score").value) });
+    const name = $("claim-name").value.trim();
+    const me = await currentPlayer();
+    if (!me || me.name !== name) await register(name);
+    const answer = await post("/api/leaderboard/claims", { game, record, score: Number($("claim-score").value) });
     verdict.textContent = `Accepted: a break of ${answer.entry.score} by ${answer.entry.name}.`;
     show((await get(`/api/leaderboard/${game}`)).breaks);
   } catch (e) {

@@ -150,16 +150,27 @@ class ReplayPage {
 /** How long to wait before asking again while the server computes another replay. */
 const BUSY_RETRY_MS = 1000;
 
-/** GET /api/replays/{id}/shots, asking again while the server is busy (429). */
-async function replayShots(id) {
+/** GET /api/replays/{id}/shots?page=N, asking again while the server is busy (429). */
+async function shotsPage(id, page) {
   for (;;) {
     try {
-      return await get(`/api/replays/${id}/shots`);
+      return await get(`/api/replays/${id}/shots?page=${page}`);
     } catch (e) {
       if (!(e instanceof ApiError) || e.code !== "rate_limited") throw e;
       await new Promise((resolve) => setTimeout(resolve, BUSY_RETRY_MS));
     }
   }
+}
+
+/** Every shot of a replay: its pages in order, each naming the next. */
+async function replayShots(id) {
+  const shots = [];
+  for (let page = 0; page !== null; ) {
+    const answer = await shotsPage(id, page);
+    shots.push(...answer.shots);
+    page = answer.next;
+  }
+  return { shots };
 }
 
 async function openRack(id, tables) {
