@@ -18,7 +18,6 @@ export class TableSession {
     this.id = id;
     this.h = handlers;
     this.version = -1;
-    this.view = null;
     this.queue = Promise.resolve();
     this.heartbeat = null;
   }
@@ -42,7 +41,6 @@ export class TableSession {
 
   takeView(view) {
     this.version = view.version;
-    this.view = view;
     this.enqueue(() => this.h.onView(view));
   }
 
@@ -65,13 +63,8 @@ export class TableSession {
       return;
     }
     this.version = message.version;
-    if (kind === "table") {
-      this.view = message.view;
-      this.enqueue(() => this.h.onView(message.view));
-    } else {
-      this.view = { ...this.view, ...pick(message, "state", "next", "rack", "racks_won", "status", "winner"), version: message.version, last_outcome: message };
-      this.enqueue(() => this.h.onOutcome(message));
-    }
+    if (kind === "table") this.enqueue(() => this.h.onView(message.view));
+    else this.enqueue(() => this.h.onOutcome(message));
   }
 
   async resync() {
@@ -107,8 +100,4 @@ export class TableSession {
       this.heartbeat = null;
     }
   }
-}
-
-function pick(object, ...keys) {
-  return Object.fromEntries(keys.map((k) => [k, object[k]]));
 }
