@@ -10,7 +10,7 @@ import { aimAtTarget, showBotAim } from "../play/aiming.js";
 import { Controls } from "../play/controls.js";
 import { missingDeclaration, readDeclarations, showDeclarations } from "../play/declarations.js";
 import { countShown, hooks } from "../play/hooks.js";
-import { MatchActions } from "../play/match.js";
+import { MatchActions, resultWords } from "../play/match.js";
 import { freePlace, inRegion, keepInRegion, overlap, usualSpot } from "../play/placing.js";
 import { showClock, showScoreboard } from "../play/scoreboard.js";
 import { TableSession } from "../play/session.js";
@@ -204,6 +204,10 @@ class PlayPage {
       return;
     }
     const { decided } = this.state;
+    if (v.status === "over" && v.winner != null) {
+      $("status").textContent = `Match over. ${resultWords(v, decided)} ${scoreWords(v)}`;
+      return;
+    }
     const words = decided ? outcomeWords(v, decided) : v.last_outcome?.void ? `The shot could not be played (${v.last_outcome.void}).` : "";
     $("status").textContent = [this.notice, words, nextWords(v), scoreWords(v)].filter(Boolean).join(" ");
     $("hint").textContent = this.handWords();
@@ -225,7 +229,7 @@ class PlayPage {
     box.hidden = !contact || contact.legal === null;
     if (box.hidden) return;
     box.className = `contact ${contact.legal ? "legal" : "foul"}`;
-    const legal = this.state.shot.targets.slice(0, 3).map(ballWords);
+    const legal = [...new Set(this.state.shot.targets.map(ballWords))].slice(0, 3);
     box.textContent = contact.legal ? `Aiming at ${ballWords(contact.ball)}: a legal first contact.` : `Aiming at ${ballWords(contact.ball)}: hitting it first is a foul (hit ${legal.join(" or ")}).`;
   }
 
@@ -299,7 +303,7 @@ class PlayPage {
   }
 
   refused(e) {
-    this.notice = `Refused (${e.code ?? "error"}): ${e.message}`;
+    this.notice = `Refused (${e.code ?? "error"}): ${e.message.replace(/\.?$/, ".")}`;
     this.render();
   }
 

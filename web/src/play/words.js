@@ -11,8 +11,8 @@ const OPTION_WORDS = {
 const BREAK_WORDS = {
   snooker: "break (points)",
   three_cushion: "run (points)",
-  nineball: "run (balls this visit)",
-  eightball: "run (balls this visit)",
+  nineball: "run (balls in a visit)",
+  eightball: "run (balls in a visit)",
 };
 
 export const REGION_WORDS = {
