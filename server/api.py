@@ -22,6 +22,8 @@ from redis.exceptions import RedisError
 
 from server import tables
 from server.api_models import (
+    AimMessage,
+    AimRequest,
     ApiError,
     BreakEntry,
     ChatMessage,
@@ -347,6 +349,23 @@ async def quick_message(request: web.Request) -> web.Response:
     return answer(message, 201)
 
 
+async def aim(request: web.Request) -> web.Response:
+    """Pass on the aim of the player to act to the table's readers (opponent, spectators)."""
+    player = await player_of(request)
+    body = await parse(request, AimRequest)
+    service = service_of(request)
+    record = await table_of(request)
+    seat = tables.seat_of(record, player.id)
+    if seat is None:
+        raise ServiceError(ErrorCode.FORBIDDEN, "you do not sit at this table")
+    if tables.acting_seat(record) != seat:
+        raise ServiceError(ErrorCode.WRONG_PHASE, "only the player to act has an aim to show")
+    service.throttle("aim", f"{record.id}:{player.id}")
+    message = AimMessage(version=record.version, seat=seat, **body.model_dump())
+    await service.publisher.publish(record.channel, message)
+    return answer(message, 201)
+
+
 # ----- replays and the leaderboard -------------------------------------------------------------
 async def get_replay(request: web.Request) -> web.Response:
     replay = await service_of(request).storage.get_replay(request.match_info["replay"])
@@ -430,6 +449,8 @@ ROUTES: tuple[Route, ...] = (
           refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},
           QuickMessageRequest, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
+    Route("POST", f"{_T}/aim", aim, "Show my aim to the table", {201: AimMessage}, AimRequest,
+          refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("GET", "/api/replays/{replay:[0-9a-f]{24}}", get_replay, "A rack's replay",
           {200: ReplayView}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", "/api/replays/{replay:[0-9a-f]{24}}/shots", replay_shots,

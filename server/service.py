@@ -30,13 +30,15 @@ from server.workers import WorkerPool, default_workers
 
 #: (requests per second, burst) per caller for what makes the server store or send something:
 #: new identities per client address, tables, quick-match requests and heartbeats per player,
-#: quick messages per player and table (one per 2 s). Intents need none: only the player to act may
+#: quick messages per player and table (one per 2 s), aims per player and table (one per 250 ms,
+#: as the client sends them). Intents need none: only the player to act may
 #: send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
     "register": (5.0, 200),
     "create": (1.0, 20),
     "quick": (2.0, 20),
     "chat": (0.5, 1),
+    "aim": (4.0, 1),
     "heartbeat": (2.0, 10),
 }
 
