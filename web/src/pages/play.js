@@ -293,12 +293,15 @@ class PlayPage {
    *  why in the server's words (and code) until the next action, the shot left as it was. */
   async send(input) {
     this.notice = null;
+    hooks.sending = true;
     try {
       await this.session.intent(input);
     } catch (e) {
       this.refused(e);
       if (e.code === "stale_version") await this.session.resync();
       else if (this.state.turnOf(this.me) === "shot") this.controls.setEnabled(this.state.view.next.cue_ball, { placing: this.state.shot?.place ?? null });
+    } finally {
+      hooks.sending = false;
     }
   }
 
