@@ -7,6 +7,7 @@
 import { ApiError, currentPlayer, get, post } from "../net/api.js";
 import { ensurePlayer, showWho } from "../net/identity.js";
 import { aimAtTarget, showBotAim } from "../play/aiming.js";
+import { AimShare } from "../play/aimshare.js";
 import { Controls } from "../play/controls.js";
 import { missingDeclaration, readDeclarations, showDeclarations } from "../play/declarations.js";
 import { countShown, hooks } from "../play/hooks.js";
@@ -69,6 +70,7 @@ class PlayPage {
     this.notice = null; // the last refusal in words, shown until the next action
     this.shooter = null; // the seat whose shot is being animated
     this.match = new MatchActions(this);
+    this.aimShare = new AimShare((body) => this.session.action("aim", body));
     this.session = new TableSession(tableId, {
       onView: (v) => this.take(v),
       onOutcome: (m) => this.play(m),
@@ -79,6 +81,7 @@ class PlayPage {
         this.render();
       },
       onConnection: (s) => this.banner(s === "closed" ? "Connection lost: reconnecting..." : null),
+      onAim: (m) => this.showTheirAim(m),
     });
     setInterval(() => this.tick(), 500);
   }
@@ -100,13 +103,17 @@ class PlayPage {
       placement: () => this.placement,
       botAims: () => this.view3d.botAims ?? 0,
       region: () => this.view3d.regionName,
+      theirAim: () => this.theirAim ?? null,
     });
     const els = { canvas: $("table"), power: $("power"), powerOut: $("power-out"), elevation: $("elevation") };
     Object.assign(els, { elevationOut: $("elevation-out"), tip: $("tip"), hit: $("hit"), viewToggle: $("view-toggle") });
     this.controls = new Controls(this.view3d, els, {
       strike: (aim) => this.strike(aim),
       place: (p) => this.place(p),
-      aimed: () => this.showContact(),
+      aimed: () => {
+        this.showContact();
+        this.shareAim();
+      },
     });
     this.chatButtons();
     sounds.bindToggle($("sound"));
@@ -123,6 +130,8 @@ class PlayPage {
 
   /** An outcome: its shot animated (the bot's lined up first), then applied. */
   async play(message) {
+    this.aimShare.cancel();
+    this.theirAim = null;
     if (message.trajectory) {
       this.shooter = message.seat;
       this.notice = null;
@@ -157,6 +166,7 @@ class PlayPage {
     const v = this.state.view;
     this.placement = null;
     this.notice = null;
+    this.theirAim = null;
     this.match.confirming = false;
     this.view3d.setBalls(v.state.balls);
     this.session.beat(this.mine !== null && v.status === "playing");
@@ -176,6 +186,23 @@ class PlayPage {
     }
     this.render();
     countShown(v.version);
+  }
+
+  /** In a match, let the opponent and spectators watch the player to shoot line up. */
+  shareAim() {
+    if (!this.controls || this.state.view?.mode !== "match" || this.state.turnOf(this.me) !== "shot") return;
+    this.aimShare.offer(this.controls.aim, this.placement);
+  }
+
+  /** The aim of the player to shoot, drawn for the others: where the cue ball is placed and the
+   *  cue along the line (as sent: the server passes it on unchecked, and nothing is played). */
+  showTheirAim(message) {
+    const v = this.state.view;
+    if (this.shooter !== null || message.seat === this.mine || v.version !== message.version || !v.next) return;
+    const cue = v.next.cue_ball;
+    if (message.place) this.view3d.setBalls({ ...v.state.balls, [cue]: message.place });
+    this.view3d.setAim(cue, message);
+    this.theirAim = message;
   }
 
   /** Draw everything from the state (and the player's work in progress). */
@@ -286,6 +313,7 @@ class PlayPage {
     const strike = { ball: cue, speed: round(aim.speed), heading: round(aim.heading), elevation: aim.elevation, a: round(aim.a), b: round(aim.b) };
     const input = { strike, ...readDeclarations($("extras")) };
     if (this.placement) input.place = this.placement;
+    this.aimShare.cancel();
     await this.send(input);
   }
 

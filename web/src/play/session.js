@@ -11,7 +11,8 @@ const HEARTBEAT_MS = 3000;
 export class TableSession {
   /**
    * handlers: onView(view) for a whole view (start, resync, `table` messages);
-   * onOutcome(message) -> Promise resolved when it has been shown; onChat, onPresence;
+   * onOutcome(message) -> Promise resolved when it has been shown; onChat, onPresence, onAim
+   * (the shooter's aim at the version shown);
    * onConnection("open" | "closed").
    */
   constructor(id, handlers) {
@@ -56,6 +57,7 @@ export class TableSession {
     const { kind } = message;
     if (kind === "chat") return this.h.onChat?.(message);
     if (kind === "presence") return this.h.onPresence?.(message);
+    if (kind === "aim") return message.version === this.version && this.h.onAim?.(message);
     if (kind !== "outcome" && kind !== "table") return;
     if (message.version <= this.version) return;
     if (message.version > this.version + 1) {
