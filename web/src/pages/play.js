@@ -4,7 +4,7 @@
 // progress (the cue ball placed in hand, the aim) and the last refusal, shown until the next
 // action. Every rule question (what to declare, where to place, what to hit first) is read
 // from the server's `next`.
-import { ApiError, currentPlayer, get, post } from "../net/api.js";
+import { ApiError, currentPlayer, get, post, shotId } from "../net/api.js";
 import { ensurePlayer, showWho } from "../net/identity.js";
 import { aimAtTarget, showBotAim } from "../play/aiming.js";
 import { AimShare } from "../play/aimshare.js";
@@ -152,7 +152,9 @@ class PlayPage {
         onDone: () => {
           const { balls, duration } = message.trajectory;
           const v = this.view3d;
-          hooks.animations.push({ balls: Object.keys(balls).length, duration, intervals: animation.frameTimes, draws: v.drawTimes, scale: v.scale, software: v.software });
+          // From the player's release of the stroke (key or click) to its first frame of motion.
+          const latency = message.shot_id === this.sentShot ? animation.firstFrameAt - this.releasedAt : null;
+          hooks.animations.push({ balls: Object.keys(balls).length, duration, latency, intervals: animation.frameTimes, draws: v.drawTimes, scale: v.scale, software: v.software });
           resolve();
         },
       });
@@ -297,6 +299,7 @@ class PlayPage {
   }
 
   async strike(aim) {
+    this.releasedAt = performance.now();
     const v = this.state.view;
     const cue = v.next.cue_ball;
     const missing = missingDeclaration($("extras"));
@@ -323,7 +326,8 @@ class PlayPage {
     this.notice = null;
     hooks.sending = true;
     try {
-      await this.session.intent(input);
+      this.sentShot = shotId();
+      await this.session.intent(input, this.sentShot);
     } catch (e) {
       this.refused(e);
       if (e.code === "stale_version") await this.session.resync();

@@ -78,9 +78,10 @@ export class TableSession {
     }
   }
 
-  /** Send an intent (a shot or a choice) for the version we show; resolves to the answer. */
-  intent(input) {
-    return post(`/api/tables/${this.id}/intents`, { version: this.version, shot_id: shotId(), input });
+  /** Send an intent (a shot or a choice) for the version we show, under shot id `id`;
+   *  resolves to the answer. */
+  intent(input, id = shotId()) {
+    return post(`/api/tables/${this.id}/intents`, { version: this.version, shot_id: id, input });
   }
 
   action(name, body = {}) {

@@ -66,6 +66,7 @@ export class Animation {
 
   frame(now) {
     if (this.last !== null) this.frameTimes.push(now - this.last);
+    else this.firstFrameAt = now; // when the motion was first drawn (performance.now() time)
     const dt = this.last === null || this.paused ? 0 : ((now - this.last) / 1000) * this.speed;
     this.last = now;
     this.seek(Math.min(this.trajectory.duration, this.time + dt));
