@@ -30,15 +30,15 @@ from server.workers import WorkerPool, default_workers
 
 #: (requests per second, burst) per caller for what makes the server store or send something:
 #: new identities per client address, tables, quick-match requests and heartbeats per player,
-#: quick messages per player and table (one per 2 s), aims per player and table (one per 250 ms,
-#: as the client sends them). Intents need none: only the player to act may
-#: send one, and it waits for the previous outcome.
+#: quick messages per player and table (one per 2 s), aims per player and table (clients send
+#: one per 250 ms at most; one per 200 ms leaves room for the network's jitter). Intents need
+#: none: only the player to act may send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
     "register": (5.0, 200),
     "create": (1.0, 20),
     "quick": (2.0, 20),
     "chat": (0.5, 1),
-    "aim": (4.0, 1),
+    "aim": (5.0, 1),
     "heartbeat": (2.0, 10),
 }
 
