@@ -317,6 +317,7 @@ class PlayPage {
     const input = { strike, ...readDeclarations($("extras")) };
     if (this.placement) input.place = this.placement;
     this.aimShare.cancel();
+    await this.aimShare.settled();
     await this.send(input);
   }
 

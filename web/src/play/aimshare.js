@@ -12,6 +12,7 @@ export class AimShare {
     this.last = -Infinity;
     this.waiting = null; // the aim to send when the interval allows
     this.timer = null;
+    this.inflight = Promise.resolve(); // the last aim sent, until the server has answered
   }
 
   /** Share aim {heading, power, elevation, a, b} with the cue ball at `place` (or null). */
@@ -29,7 +30,13 @@ export class AimShare {
     this.last = performance.now();
     const body = this.waiting;
     this.waiting = null;
-    this.send(body).catch(() => {});
+    this.inflight = this.send(body).catch(() => {});
+  }
+
+  /** Resolves once no aim is on its way: a shot sent after it cannot overtake it (the aim of
+   *  a turn already played would be refused). */
+  settled() {
+    return this.inflight;
   }
 
   /** Forget an aim not yet sent (the shot was played, the turn passed). */
