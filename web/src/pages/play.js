@@ -190,9 +190,10 @@ class PlayPage {
     countShown(v.version);
   }
 
-  /** In a match, let the opponent and spectators watch the player to shoot line up. */
+  /** In a match, let the opponent and spectators watch the player to shoot line up (while the
+   *  controls are live: not once the shot is on its way, whose outcome ends the turn). */
   shareAim() {
-    if (!this.controls || this.state.view?.mode !== "match" || this.state.turnOf(this.me) !== "shot") return;
+    if (!this.controls?.enabled || this.state.view?.mode !== "match" || this.state.turnOf(this.me) !== "shot") return;
     this.aimShare.offer(this.controls.aim, this.placement);
   }
 
