@@ -90,6 +90,7 @@ def test_two_players_and_a_spectator(browser, server, console):
         for page in (ada, bob, cy):
             page.wait_for_selector("#result:has-text('resigned')")
             assert "Match over" in page.get_by_role("status").inner_text()
+            assert page.locator("#hint").inner_text() == ""  # nothing left to place or aim
         result = cy.locator("#result h2").inner_text()
         assert result.startswith(f"{names[1]} wins the match") and f"{names[0]} resigned" in result
         screenshot(cy, "match-result")

@@ -229,6 +229,8 @@ class PlayPage {
     const refusal = $("refusal");
     refusal.hidden = !this.notice;
     refusal.textContent = this.notice ?? "";
+    $("hint").textContent = this.handWords();
+    this.showContact();
     if (this.shooter !== null) {
       $("status").textContent = `${seatName(v, this.shooter)} shoots...`;
       return;
@@ -240,14 +242,12 @@ class PlayPage {
     }
     const words = decided ? outcomeWords(v, decided) : v.last_outcome?.void ? `The shot could not be played (${v.last_outcome.void}).` : "";
     $("status").textContent = [this.notice, words, nextWords(v), scoreWords(v)].filter(Boolean).join(" ");
-    $("hint").textContent = this.handWords();
-    this.showContact();
   }
 
   /** What to do with the cue ball in hand, for the player who has it (beside the status, which
    *  every player and spectator reads alike). */
   handWords() {
-    const place = this.state.turnOf(this.me) === "shot" ? this.state.shot?.place : null;
+    const place = this.shooter === null && this.state.turnOf(this.me) === "shot" ? this.state.shot?.place : null;
     if (!place) return "";
     return `Drag the cue ball (or Alt + arrow keys) to place it ${REGION_WORDS[place] ?? place}, in the shaded area.`;
   }
