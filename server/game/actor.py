@@ -3,7 +3,7 @@
 In each server process a table has at most one `TableActor`: a queue of jobs and one task that
 runs them in order (the task ends when the queue is empty, so idle tables cost nothing). Every
 command is a typed value (server/game/commands.py): the players' `Play`, `Join`, `Leave`, `Resign`,
-`Claim`, `Rematch`, `Heartbeat` and `QuickMessage`, handed over by the HTTP handlers with
+`Claim`, `Rematch`, `Heartbeat`, `QuickMessage` and `Aim`, handed over by the HTTP handlers with
 `ask`, and the server's own `ClockExpiry` (server/game/clock.py) and `BotMove`, queued with `tell`.
 Every job starts from a fresh read of the stored table, so replicas sharing a Redis see each
 other's moves, and every change is stored with a compare-and-set on the table's version.
@@ -73,6 +73,8 @@ from server.protocol import ids
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import QuickText
 from server.protocol.models import (
+    AimMessage,
+    AimRequest,
     ChatMessage,
     IntentAccepted,
     IntentDuplicate,
@@ -228,6 +230,8 @@ class TableActor:
                 return await self._heartbeat(player)
             case commands.QuickMessage(player, message):
                 return await self._quick_message(player, message)
+            case commands.Aim(player, aim):
+                return await self._aim(player, aim)
             case commands.ClockExpiry():
                 return await self._expire()
             case commands.BotMove():
@@ -434,6 +438,18 @@ class TableActor:
             seat=tables.seat_of(record, player.id),
             message=text,
         )
+        await self._context.publisher.publish(record.channel, message)
+        return message
+
+    async def _aim(self, player: PlayerInfo, aim: AimRequest) -> AimMessage:
+        """Pass on the aim of the player to act; refused for anyone else."""
+        record = await self._context.storage.get_table(self.table_id)
+        if record is None:
+            raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
+        seat = tables.seated(record, player)
+        if tables.acting_seat(record) != seat:
+            raise ServiceError(ErrorCode.WRONG_PHASE, "only the player to act has an aim to show")
+        message = AimMessage(version=record.version, seat=seat, **aim.model_dump())
         await self._context.publisher.publish(record.channel, message)
         return message
 

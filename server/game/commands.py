@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from server.protocol.ids import QuickText
-from server.protocol.models import Intent, PlayerInfo
+from server.protocol.models import AimRequest, Intent, PlayerInfo
 
 
 @dataclass(frozen=True)
@@ -77,6 +77,14 @@ class QuickMessage:
 
 
 @dataclass(frozen=True)
+class Aim:
+    """How the player to act is lining up, for the table's readers (never played)."""
+
+    player: PlayerInfo
+    aim: AimRequest
+
+
+@dataclass(frozen=True)
 class ClockExpiry:
     """The shot clock may have run out: play the timeout input if the deadline has passed."""
 
@@ -88,7 +96,7 @@ class BotMove:
 
 
 #: What the players and spectators may send (each through an HTTP handler).
-ClientCommand = Play | Join | Leave | Resign | Claim | Rematch | Heartbeat | QuickMessage
+ClientCommand = Play | Join | Leave | Resign | Claim | Rematch | Heartbeat | QuickMessage | Aim
 #: What the server makes itself.
 ServerCommand = ClockExpiry | BotMove
 Command = ClientCommand | ServerCommand

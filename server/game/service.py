@@ -35,8 +35,10 @@ NAMES_PER_ADDRESS = 50
 
 #: (requests per second, burst) per caller for what makes the server store or send something:
 #: new identities per client address (`NAMES_PER_ADDRESS`), tables, quick-match requests and
-#: heartbeats per player, quick messages per player and table (one per 2 s), leaderboard
-#: claims per player (their worker time is bounded apart, server/game/budget.py). Intents need
+#: heartbeats per player, quick messages per player and table (one per 2 s), aims per player
+#: and table (clients send one per 250 ms at most; one per 200 ms leaves room for the
+#: network's jitter), leaderboard claims per player (their worker time is bounded apart,
+#: server/game/budget.py). Intents need
 #: none: only the player to act may send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
     "register": (NAMES_PER_ADDRESS / ONLINE, NAMES_PER_ADDRESS),
@@ -44,6 +46,7 @@ LIMITS: dict[str, tuple[float, int]] = {
     "quick": (2.0, 20),
     "challenge": (0.5, 10),
     "chat": (0.5, 1),
+    "aim": (5.0, 1),
     "heartbeat": (2.0, 10),
     "claim": (0.5, 10),
 }

@@ -29,6 +29,8 @@ from server.protocol import ids
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import MAX_BODY, MAX_RECORD_BODY, new_table_id
 from server.protocol.models import (
+    AimMessage,
+    AimRequest,
     ApiError,
     BotList,
     BreakEntry,
@@ -301,6 +303,17 @@ async def quick_message(request: web.Request) -> web.Response:
     return answer(message, 201)
 
 
+async def aim(request: web.Request) -> web.Response:
+    """Pass on the aim of the player to act to the table's readers (opponent, spectators)."""
+    player = await player_of(request)
+    body = await parse(request, AimRequest)
+    service = service_of(request)
+    service.throttle("aim", f"{request.match_info['table']}:{player.id}")
+    message = await _ask(request, commands.Aim(player, body))
+    assert isinstance(message, AimMessage)
+    return answer(message, 201)
+
+
 # ----- replays and the leaderboard -------------------------------------------------------------
 async def get_replay(request: web.Request) -> web.Response:
     replay = await service_of(request).storage.get_replay(request.match_info["replay"])
@@ -435,6 +448,8 @@ ROUTES: tuple[Route, ...] = (
           refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},
           QuickMessageRequest, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
+    Route("POST", f"{_T}/aim", aim, "Show my aim to the table", {201: AimMessage}, AimRequest,
+          refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("GET", f"/api/replays/{REPLAY_ID}", get_replay, "A rack's replay",
           {200: ReplayView}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", f"/api/replays/{REPLAY_ID}/shots", replay_shots,

@@ -358,6 +358,28 @@ class QuickMessageRequest(BaseModel):
     message: QuickText
 
 
+#: An aim's numbers: finite, and no wider than a shot's (rules.inputs).
+_Unit = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False)]
+_Tip = Annotated[float, Field(ge=-0.5, le=0.5, allow_inf_nan=False)]
+_Metres = Annotated[float, Field(ge=0.0, le=4.0, allow_inf_nan=False)]
+
+
+class AimRequest(BaseModel):
+    """How the player to act is lining up: shown to the opponent and spectators as it is,
+    never played or checked against the rules (the shot is the intent)."""
+
+    model_config = _REQUEST
+
+    heading: float = Field(ge=-360.0, le=720.0, allow_inf_nan=False, description="degrees")
+    power: _Unit = Field(description="the power control, 0 to 1")
+    elevation: float = Field(ge=0.0, lt=90.0, allow_inf_nan=False, description="degrees")
+    a: _Tip = 0.0
+    b: _Tip = 0.0
+    place: tuple[_Metres, _Metres] | None = Field(
+        default=None, description="where the cue ball in hand is placed for now"
+    )
+
+
 # ----- replays and the leaderboard ------------------------------------------------------------
 ReplayId = Annotated[str, StringConstraints(pattern=ids.REPLAY_ID_PATTERN)]
 
@@ -586,6 +608,17 @@ class ChallengeMessage(BaseModel):
     kind: Literal["challenge"] = "challenge"
     protocol: int = PROTOCOL
     challenge: Challenge
+
+
+class AimMessage(AimRequest):
+    """The aim of the player in `seat`, as sent (AimRequest), on the table channel."""
+
+    model_config = _ANSWER
+
+    kind: Literal["aim"] = "aim"
+    protocol: int = PROTOCOL
+    version: int
+    seat: Seat
 
 
 class LobbyMessage(BaseModel):

@@ -142,9 +142,18 @@ def open_page(browser: Browser, server: Server, console: Console):
     localStorage: a separate person), watched for console errors."""
     contexts = []
 
-    def open_(path: str, who: str = "player", viewport: dict | None = None, context=None) -> Page:
+    def open_(
+        path: str,
+        who: str = "player",
+        viewport: dict | None = None,
+        context=None,
+        service_workers: str = "block",
+    ) -> Page:
+        # The service worker is tested on its own (test_app.py); elsewhere it would only stand
+        # between the page and the routes some tests put on its requests.
         if context is None:
-            context = browser.new_context(viewport=viewport or {"width": 1280, "height": 800})
+            viewport = viewport or {"width": 1280, "height": 800}
+            context = browser.new_context(viewport=viewport, service_workers=service_workers)
             contexts.append(context)
         page = console.watch(context.new_page(), who)
         page.goto(server.url + path)

@@ -40,7 +40,7 @@ def test_every_page_links_the_manifest_and_its_icons_are_drawn(server, open_page
 def test_the_service_worker_serves_the_site_and_says_when_the_server_is_gone(
     server, open_page, console
 ) -> None:
-    page = open_page("/")
+    page = open_page("/", service_workers="allow")
     scope = page.evaluate("async () => (await navigator.serviceWorker.ready).scope")
     assert scope == server.url + "/"
     page.wait_for_function("() => navigator.serviceWorker.controller !== null")

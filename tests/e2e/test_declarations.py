@@ -65,7 +65,9 @@ def test_a_colour_is_nominated_after_a_red(open_page, server):
     wait_shown(page)
     nominate = page.locator("#extras select[name=nominate]")
     offered = nominate.locator("option").all_inner_texts()
-    assert offered == ["(the first ball hit)", "yellow", "green", "brown", "blue", "pink", "black"]
+    # The page offers exactly the server's list (next.shot.nominate): the colours on the table.
+    assert offered == ["(the first ball hit)", *view["next"]["shot"]["nominate"]]
+    assert set(offered[1:]) == {"yellow", "green", "brown", "blue", "pink", "black"}
     nominate.select_option("pink")
     screenshot(page, "practice-snooker-nominate")
     after = shoot_from_page(page, api, table)

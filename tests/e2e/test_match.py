@@ -49,6 +49,7 @@ def test_two_players_and_a_spectator(browser, server, console):
         join_as(bob, unique_name("Bob"))
         started = view_of(bob, server, table_id)
         assert started["status"] == "playing"
+        names = [seat["name"] for seat in started["seats"]]
         cy.goto(ada.url)
         pages = {0: ada, 1: bob}
         for page in (ada, bob, cy):
@@ -79,18 +80,26 @@ def test_two_players_and_a_spectator(browser, server, console):
         assert bob.get_by_role("button", name="Join this table").count() == 0
         screenshot(bob, "match-after-reload")
 
-        # Ada resigns; Bob offers a rematch, Ada accepts, and both go to the new table.
+        # Ada resigns (asked first); the result panel says how the match ended. Bob offers a
+        # rematch, Ada is told and accepts, and both are taken to the new table.
         ada.get_by_role("button", name="Resign").click()
+        ada.get_by_role("button", name="Keep playing").click()
+        assert view_of(ada, server, table_id)["status"] == "playing"
+        ada.get_by_role("button", name="Resign").click()
+        ada.get_by_role("button", name="Yes, resign").click()
         for page in (ada, bob, cy):
-            page.wait_for_function(
-                "() => document.getElementById('status').textContent.includes('Match over')"
-            )
-        assert "wins" in cy.get_by_role("status").inner_text()
+            page.wait_for_selector("#result:has-text('resigned')")
+            assert "Match over" in page.get_by_role("status").inner_text()
+            assert page.locator("#hint").inner_text() == ""  # nothing left to place or aim
+        result = cy.locator("#result h2").inner_text()
+        assert result.startswith(f"{names[1]} wins the match") and f"{names[0]} resigned" in result
+        screenshot(cy, "match-result")
         bob.get_by_role("button", name="Offer a rematch").click()
+        ada.wait_for_selector(f"#result:has-text('{names[1]} offers a rematch')")
+        screenshot(ada, "match-rematch-offered")
         ada.get_by_role("button", name="Accept the rematch").click()
         for page in (ada, bob):
-            page.get_by_role("link", name="Go to the rematch").click()
-            page.wait_for_url("**/table/*")
+            page.wait_for_url(lambda url: table_id not in url)
             wait_version(page, 0)
         assert ada.url == bob.url and ada.url.rsplit("/", 1)[1] != table_id
 

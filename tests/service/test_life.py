@@ -117,6 +117,30 @@ async def test_quick_messages_are_a_fixed_set_and_rate_limited(server: TestClien
     assert first["version"] == view["version"]  # messages do not move the version
 
 
+async def test_the_shooters_aim_is_passed_on_throttled_and_only_the_shooters(
+    server: TestClient,
+) -> None:
+    ada, bob, view = await seated_match(server)
+    watcher = await watch(server, view["channel"])
+    path = f"/api/tables/{view['id']}/aim"
+    shooter, other = (ada, bob) if view["next"]["seat"] == 0 else (bob, ada)
+    aim = {"heading": 91.5, "power": 0.4, "elevation": 0.0, "a": 0.1, "b": -0.2}
+    status, body = await other.call("POST", path, aim)
+    assert (status, body["code"]) == (409, "wrong_phase")  # not the player to act
+    status, body = await shooter.call("POST", path, {**aim, "a": 0.9})
+    assert (status, body["code"]) == (400, "bad_request")  # no wider than a shot
+    await shooter.call("POST", path, {**aim, "place": [0.5, 0.4]}, 201)
+    status, body = await shooter.call("POST", path, aim)
+    assert (status, body["code"]) == (429, "rate_limited")  # not two within 200 ms
+    shown = await watcher.next_kind("aim")
+    assert shown["seat"] == view["next"]["seat"] and shown["heading"] == 91.5
+    assert shown["place"] == [0.5, 0.4] and shown["version"] == view["version"]
+    # Never played: the table has not moved.
+    assert (await (await server.get(f"/api/tables/{view['id']}")).json())["version"] == view[
+        "version"
+    ]
+
+
 async def test_names_are_unique_among_players_online(server: TestClient) -> None:
     await register(server, "Ada")
     response = await server.post("/api/players", json={"name": "ADA"})

@@ -6,8 +6,17 @@ import { ensurePlayer, showWho } from "../net/identity.js";
 import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
 import { LOBBY, playerChannel, QUICK_POLL_MS } from "../net/protocol.js";
+import { BOT_LEVELS, DEFAULT_BOT } from "../play/words.js";
 
 const $ = (id) => document.getElementById(id);
+
+/** A name refused by the server, in words a player can act on (a malformed one is refused
+ *  with the validator's pattern, which no player should have to read). */
+function nameRefusal(err) {
+  if (err.code === "bad_request") return "Use 1 to 24 letters, digits, spaces, dots, dashes or underscores, with no space at either end.";
+  if (err.code === "name_taken") return "Someone online has that name: choose another.";
+  return err.message;
+}
 
 function error(e) {
   $("home-error").textContent = e ? e.message : "";
@@ -57,18 +66,21 @@ function gameCards() {
     const quick = el("button", "Quick match", "primary");
     quick.type = "button";
     quick.onclick = () => quickMatch(game, quick).catch(error);
+    const level = el("select", null, "bot-level");
+    level.setAttribute("aria-label", `${GAME_NAMES[game]}: the bot's level`);
+    for (const [value, words] of Object.entries(BOT_LEVELS)) level.append(new Option(words, value, false, value === DEFAULT_BOT));
     const bot = el("button", "Play the bot");
     bot.type = "button";
     bot.onclick = () =>
       ensurePlayer()
-        .then(() => post("/api/tables", { game, mode: "bot" }))
+        .then(() => post("/api/tables", { game, mode: "bot", bot: level.value }))
         .then((v) => go(v.id))
         .catch(error);
     const practice = el("a", "Practice", "button");
     practice.href = `/practice/${game}`;
     const board = el("a", "Leaderboard", "button");
     board.href = `/leaderboard/${game}`;
-    row.append(quick, bot, practice, board);
+    row.append(quick, level, bot, practice, board);
     card.append(row);
     grid.append(card);
   }
@@ -105,7 +117,7 @@ async function main() {
     try {
       showWho(await register($("name").value.trim()));
     } catch (err) {
-      $("name-error").textContent = err.message;
+      $("name-error").textContent = nameRefusal(err);
     }
   });
   $("create-form").addEventListener("submit", async (e) => {

@@ -1,15 +1,26 @@
 // /practice/{game} and /table/{id}: the table in 3D, the controls of the player to act, and
-// the match around it (scores, the referee's words, choices, clock, presence, quick messages,
-// resign, rematch). Everything shown comes from the server: the client sends intents only.
-import { ApiError, currentPlayer, get, post } from "../net/api.js";
+// the match around it. The server's messages change one TableState (play/state.js); every
+// change is drawn from it by `render`. What the page keeps of its own is the player's work in
+// progress (the cue ball placed in hand, the aim) and the last refusal, shown until the next
+// action. Every rule question (what to declare, where to place, what to hit first) is read
+// from the server's `next`.
+import { ApiError, currentPlayer, get, post, shotId } from "../net/api.js";
+import { BOT_PREFIX } from "../net/protocol.js";
 import { ensurePlayer, showWho } from "../net/identity.js";
+import { aimAtTarget, showBotAim } from "../play/aiming.js";
+import { AimShare } from "../play/aimshare.js";
 import { Controls } from "../play/controls.js";
+import { missingDeclaration, readDeclarations, showDeclarations } from "../play/declarations.js";
+import { countShown, hooks } from "../play/hooks.js";
+import { MatchActions, resultWords } from "../play/match.js";
+import { freePlace, inRegion, keepInRegion, overlap, usualSpot } from "../play/placing.js";
+import { showClock, showScoreboard } from "../play/scoreboard.js";
 import { TableSession } from "../play/session.js";
-import { missingExtra, readExtras, showExtras } from "../play/extras.js";
 import { TableSounds } from "../play/sound.js";
-import { nextWords, optionWords, outcomeWords, playerName, scoreWords, seatName } from "../play/words.js";
+import { TableState } from "../play/state.js";
+import { ballWords, nextWords, optionWords, outcomeWords, REGION_WORDS, scoreWords, seatName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
-import { TableView } from "../three/view.js";
+import { TableScene } from "../three/view.js";
 
 const QUICK_MESSAGES = {
   hello: "Hello",
@@ -22,28 +33,13 @@ const QUICK_MESSAGES = {
   bye: "Bye",
 };
 
-/** Seconds left on the shot clock from which it is shown in alarm. */
-const URGENT_S = 5;
-
 const $ = (id) => document.getElementById(id);
 const geometry = fetch("/web/tables").then((r) => r.json());
-
-/** Diagnostics the browser tests read: per animation, its frame intervals and the main thread's
- *  time per frame (ms), the resolution scale reached and whether the renderer was taken for a
- *  software one; how many table states have been shown, and the version of the last;
- *  balls(): where each ball is drawn, in table coordinates; screenOf(p): where on the page a
- *  table point is drawn; camera(): the view last drawn ("aim" or "top"); drawn(): whether
- *  every change asked for has been drawn; sound(): the sounds' state and counts. */
-const diagnostics = { animations: [], shown: 0 };
-window.billiards = diagnostics;
 const sounds = new TableSounds();
-diagnostics.sound = () => sounds.stats();
+hooks.sound = () => sounds.stats();
 
 function button(label, onClick, className = "") {
-  const b = document.createElement("button");
-  b.type = "button";
-  b.textContent = label;
-  b.className = className;
+  const b = Object.assign(document.createElement("button"), { type: "button", textContent: label, className });
   b.addEventListener("click", onClick);
   return b;
 }
@@ -69,111 +65,97 @@ async function practiceTable(game, me) {
 class PlayPage {
   constructor(tableId, me) {
     this.me = me;
+    this.state = new TableState();
     this.view3d = null;
-    this.shown = null; // the table as shown (a TableView, advanced by each outcome shown)
-    this.placement = null;
-    this.lastWords = "";
+    this.placement = null; // where the player put the cue ball in hand, not yet sent
+    this.notice = null; // the last refusal in words, shown until the next action
+    this.shooter = null; // the seat whose shot is being animated
+    this.match = new MatchActions(this);
+    this.aimShare = new AimShare((body) => this.session.action("aim", body));
     this.session = new TableSession(tableId, {
-      onView: (v) => this.showView(v),
-      onOutcome: (m) => this.showOutcome(m),
+      onView: (v) => this.take(v),
+      onOutcome: (m) => this.play(m),
       onChat: (m) => this.banner(`${m.from_name}: ${QUICK_MESSAGES[m.message] ?? m.message}`, 4000),
-      onPresence: (m) => this.showPresence(m.presence, m.grace_until),
-      onConnection: (s) => {
-        if (s === "closed") this.banner("Connection lost: reconnecting...");
-        else this.banner(null);
+      onPresence: (m) => {
+        this.state.apply(m);
+        this.presenceBanner();
+        this.render();
       },
+      onConnection: (s) => this.banner(s === "closed" ? "Connection lost: reconnecting..." : null),
+      onAim: (m) => this.showTheirAim(m),
     });
-    setInterval(() => this.tickClock(), 500);
+    setInterval(() => this.tick(), 500);
   }
 
-  mySeat(view = this.shown) {
-    if (!this.me || !view) return null;
-    const seat = view.seats.findIndex((s) => s?.id === this.me.id);
-    return seat < 0 ? null : seat;
+  get mine() {
+    return this.state.seatOf(this.me);
   }
 
   async setup(view) {
     const table = (await geometry)[view.game];
     document.title = `billiards: ${view.game}`;
-    this.view3d = new TableView($("table"), table, view.game);
-    diagnostics.balls = () => this.view3d.drawnBalls();
-    diagnostics.screenOf = (p) => this.view3d.screenOf(p);
-    diagnostics.camera = () => this.view3d.shownMode;
-    diagnostics.drawn = () => !this.view3d.pending && !this.view3d.animating;
-    this.controls = new Controls(
-      this.view3d,
-      {
-        canvas: $("table"),
-        power: $("power"),
-        powerOut: $("power-out"),
-        elevation: $("elevation"),
-        elevationOut: $("elevation-out"),
-        tip: $("tip"),
-        hit: $("hit"),
-        viewToggle: $("view-toggle"),
+    this.view3d = new TableScene($("table"), table, view.game);
+    Object.assign(hooks, {
+      balls: () => this.view3d.drawnBalls(),
+      screenOf: (p) => this.view3d.screenOf(p),
+      camera: () => this.view3d.shownMode,
+      drawn: () => !this.view3d.pending && !this.view3d.animating,
+      aim: () => ({ ...this.controls.aim, contact: this.view3d.contact }),
+      placement: () => this.placement,
+      botAims: () => this.view3d.botAims ?? 0,
+      region: () => this.view3d.regionName,
+      theirAim: () => this.theirAim ?? null,
+    });
+    const els = { canvas: $("table"), power: $("power"), powerOut: $("power-out"), elevation: $("elevation") };
+    Object.assign(els, { elevationOut: $("elevation-out"), tip: $("tip"), hit: $("hit"), viewToggle: $("view-toggle") });
+    this.controls = new Controls(this.view3d, els, {
+      strike: (aim) => this.strike(aim),
+      place: (p) => this.place(p),
+      aimed: () => {
+        this.showContact();
+        this.shareAim();
       },
-      { strike: (aim) => this.strike(aim), place: (p) => this.place(p) },
-    );
+    });
     this.chatButtons();
     sounds.bindToggle($("sound"));
+    if (view.mode === "match" && view.status !== "over") this.match.noteRating(view.game);
   }
 
-  async showView(view) {
+  /** A whole TableView: the start, a resync, a `table` message. */
+  async take(view) {
     if (!this.view3d) await this.setup(view);
     this.animation?.stop();
-    this.shown = structuredClone(view);
-    this.view3d.setBalls(view.state.balls);
-    this.placement = null;
-    this.showPresence(view.presence, this.grace);
-    this.session.beat(this.mySeat() !== null && view.status === "playing");
-    if (view.last_outcome?.decision && !this.lastWords) this.lastWords = outcomeWords(view, view.last_outcome);
-    this.refresh();
-    diagnostics.shown += 1;
-    diagnostics.version = view.version;
+    this.state.apply(view);
+    this.shown();
   }
 
-  showOutcome(message) {
-    const shown = this.shown;
-    const after = () => {
-      Object.assign(shown, {
-        state: message.state,
-        next: message.next,
-        rack: message.rack,
-        racks_won: message.racks_won,
-        status: message.status,
-        winner: message.winner,
-        version: message.version,
-      });
-      this.view3d.setBalls(message.state.balls);
-      this.placement = null;
-      if (message.decision) {
-        this.lastWords = outcomeWords(shown, message);
-      } else if (message.void) {
-        this.lastWords = `The shot could not be played (${message.void}).`;
-      }
-      this.refresh();
-      diagnostics.shown += 1;
-      diagnostics.version = message.version;
-    };
-    if (!message.trajectory) {
-      after();
-      return Promise.resolve();
+  /** An outcome: its shot animated (the bot's lined up first), then applied. */
+  async play(message) {
+    this.aimShare.cancel();
+    this.theirAim = null;
+    if (message.trajectory) {
+      this.shooter = message.seat;
+      this.notice = null;
+      this.controls.setEnabled(null);
+      this.render();
+      if (message.shot_id.startsWith(BOT_PREFIX)) await showBotAim(this.view3d, this.state.view, message.input);
+      await this.animate(message);
+      this.shooter = null;
     }
-    this.controls.setEnabled(null);
-    this.status(`${seatName(shown, message.seat)} shoots...`);
+    this.state.apply(message);
+    this.shown();
+  }
+
+  animate(message) {
     return new Promise((resolve) => {
       const animation = new Animation(this.view3d, message.trajectory, {
         onEvent: (type, speed) => sounds.play(type, speed),
         onDone: () => {
-          diagnostics.animations.push({
-            balls: Object.keys(message.trajectory.balls).length,
-            duration: message.trajectory.duration,
-            intervals: animation.frameTimes,
-            draws: this.view3d.drawTimes,
-            scale: this.view3d.scale,
-            software: this.view3d.software,
-          });
-          after();
+          const { balls, duration } = message.trajectory;
+          const v = this.view3d;
+          // From the player's release of the stroke (key or click) to its first frame of motion.
+          const latency = message.shot_id === this.sentShot ? animation.firstFrameAt - this.releasedAt : null;
+          hooks.animations.push({ balls: Object.keys(balls).length, duration, latency, intervals: animation.frameTimes, draws: v.drawTimes, scale: v.scale, software: v.software });
           resolve();
         },
       });
@@ -182,269 +164,237 @@ class PlayPage {
     });
   }
 
-  status(text) {
-    $("status").textContent = text;
-  }
-
-  refresh() {
-    const v = this.shown;
-    const mine = this.mySeat();
-    const toAct = v.status === "playing" && v.next && v.next.seat === mine;
-    this.status([this.lastWords, nextWords(v), scoreWords(v)].filter(Boolean).join(" "));
-    this.scoreboard(v);
-    const shooting = toAct && v.next.kinds.includes("shot");
-    showExtras($("extras"), shooting ? v : null);
+  /** A new table version is in the state: draw it, and set up the player's shot if it is theirs. */
+  shown() {
+    const v = this.state.view;
+    this.placement = null;
+    this.notice = null;
+    this.theirAim = null;
+    this.match.confirming = false;
+    this.view3d.setBalls(v.state.balls);
+    this.session.beat(this.mine !== null && v.status === "playing");
+    const shooting = this.state.turnOf(this.me) === "shot";
+    const shot = shooting ? this.state.shot : null;
+    showDeclarations($("extras"), shot);
     // A called pocket is ringed on the table as soon as it is chosen.
     this.view3d.markPocket(null);
     $("extras").querySelector('select[name="call"]')?.addEventListener("change", (e) => this.view3d.markPocket(e.target.value || null));
-    if (shooting) {
-      this.ensureCueBall(v);
-      this.aimAtNearest(v.next.cue_ball);
+    this.view3d.setTargets(shot ? shot.targets : null);
+    this.view3d.showRegion(shot?.place ?? null);
+    this.controls.setEnabled(shot ? v.next.cue_ball : null, { placing: shot?.place ?? null });
+    if (shot) {
+      this.ensureCueBall();
+      const heading = aimAtTarget(this.view3d, v.next.cue_ball, shot.targets);
+      if (heading != null) this.controls.set({ heading });
     }
-    this.controls.setEnabled(shooting ? v.next.cue_ball : null, { placing: shooting ? v.next.ball_in_hand : null });
-    this.choices(toAct && v.next.kinds.includes("choice") ? v.next.options : []);
+    this.render();
+    countShown(v.version);
+  }
+
+  /** In a match, let the opponent and spectators watch the player to shoot line up (while the
+   *  controls are live: not once the shot is on its way, whose outcome ends the turn). */
+  shareAim() {
+    if (!this.controls?.enabled || this.state.view?.mode !== "match" || this.state.turnOf(this.me) !== "shot") return;
+    this.aimShare.offer(this.controls.aim, this.placement);
+  }
+
+  /** The aim of the player to shoot, drawn for the others: where the cue ball is placed and the
+   *  cue along the line (as sent: the server passes it on unchecked, and nothing is played). */
+  showTheirAim(message) {
+    const v = this.state.view;
+    if (this.shooter !== null || message.seat === this.mine || v.version !== message.version || !v.next) return;
+    const cue = v.next.cue_ball;
+    if (message.place) this.view3d.setBalls({ ...v.state.balls, [cue]: message.place });
+    this.view3d.setAim(cue, message);
+    this.theirAim = message;
+  }
+
+  /** Draw everything from the state (and the player's work in progress). */
+  render() {
+    const v = this.state.view;
+    if (!v) return;
+    const mine = this.mine;
+    const turn = this.shooter === null ? this.state.turnOf(this.me) : null;
+    this.showStatus();
+    showScoreboard($("players"), v);
+    $("choices").replaceChildren(...(turn === "choice" ? v.next.options : []).map((o) => button(optionWords(o), () => this.send({ option: o }))));
     // Spectators watch: no cue, no stroke controls; nor before the match starts or once over.
-    const choosing = toAct && v.next.kinds.includes("choice");
-    for (const id of ["controls", "keys"]) $(id).hidden = mine === null || v.status !== "playing" || choosing;
-    // The aim view looks along the cue: without one to aim (a spectator, the opponent's turn, a
-    // match over) the table is seen from above, with no view to switch to.
-    $("view-toggle").hidden = !shooting;
-    this.actions(v, mine);
+    for (const id of ["controls", "keys"]) $(id).hidden = mine === null || v.status !== "playing" || turn === "choice";
+    // The aim view looks along the cue: without one to aim the table is seen from above.
+    $("view-toggle").hidden = turn !== "shot";
+    this.actions(mine);
   }
 
-  scoreboard(v) {
-    const box = $("players");
-    box.replaceChildren();
-    for (const seat of [0, 1]) {
-      const name = document.createElement("span");
-      const acting = v.status === "playing" && (v.mode === "practice" ? v.state.turn : v.next?.seat) === seat;
-      name.className = `name${acting ? " to-act" : ""}`;
-      name.textContent = playerName(v, seat) + (v.presence?.[seat] === false && v.seats[seat] ? " (disconnected)" : "");
-      const score = document.createElement("span");
-      score.className = "score";
-      score.textContent = String(v.state.scores[seat]);
-      box.append(name, score);
+  showStatus() {
+    const v = this.state.view;
+    const refusal = $("refusal");
+    refusal.hidden = !this.notice;
+    refusal.textContent = this.notice ?? "";
+    $("hint").textContent = this.handWords();
+    this.showContact();
+    if (this.shooter !== null) {
+      $("status").textContent = `${seatName(v, this.shooter)} shoots...`;
+      return;
     }
-    const clock = document.createElement("span");
-    clock.className = "clock";
-    clock.id = "clock";
-    box.append(clock);
-    this.showClock();
+    const { decided } = this.state;
+    if (v.status === "over" && v.winner != null) {
+      $("status").textContent = `Match over. ${resultWords(v, decided)} ${scoreWords(v)}`;
+      return;
+    }
+    const words = decided ? outcomeWords(v, decided) : v.last_outcome?.void ? `The shot could not be played (${v.last_outcome.void}).` : "";
+    $("status").textContent = [this.notice, words, nextWords(v), scoreWords(v)].filter(Boolean).join(" ");
   }
 
-  tickClock() {
-    if (this.goneSeat() >= 0) {
+  /** What to do with the cue ball in hand, for the player who has it (beside the status, which
+   *  every player and spectator reads alike). */
+  handWords() {
+    const place = this.shooter === null && this.state.turnOf(this.me) === "shot" ? this.state.shot?.place : null;
+    if (!place) return "";
+    return `Drag the cue ball (or Alt + arrow keys) to place it ${REGION_WORDS[place] ?? place}, in the shaded area.`;
+  }
+
+  /** The aim line's first ball, and whether the server lists it as a legal first contact. */
+  showContact() {
+    const contact = this.view3d?.contact;
+    const box = $("contact");
+    box.hidden = !contact || contact.legal === null;
+    if (box.hidden) return;
+    box.className = `contact ${contact.legal ? "legal" : "foul"}`;
+    const legal = [...new Set(this.state.shot.targets.map(ballWords))].slice(0, 3);
+    box.textContent = contact.legal ? `Aiming at ${ballWords(contact.ball)}: a legal first contact.` : `Aiming at ${ballWords(contact.ball)}: hitting it first is a foul (hit ${legal.join(" or ")}).`;
+  }
+
+  tick() {
+    if (this.state.goneSeat() >= 0) {
       this.presenceBanner();
-      const claim = this.claimable();
-      if (claim !== this.claimShown) this.actions(this.shown, this.mySeat());
+      const claim = this.state.claimable();
+      if (claim !== this.claimShown) this.actions(this.mine);
       this.claimShown = claim;
     }
-    this.showClock();
+    showClock(this.state.view);
   }
 
-  /** The seconds left to the player to act (the server rules the deadline; this only shows it). */
-  showClock() {
-    const clock = $("clock");
-    const deadline = this.shown?.next?.deadline;
-    if (!clock) return;
-    const left = deadline ? Math.max(0, Math.ceil(deadline - Date.now() / 1000)) : null;
-    clock.textContent = left === null ? "" : `Shot clock ${left} s`;
-    clock.classList.toggle("urgent", left !== null && left <= URGENT_S);
-  }
-
-  /** With the cue ball in hand and off the table, put it on the region's usual spot, or the
-   *  nearest place round it clear of the other balls (the server still judges the place). */
-  ensureCueBall(v) {
+  /** With the cue ball in hand and off the table, put it on a free place of the region. */
+  ensureCueBall() {
+    const v = this.state.view;
     const cue = v.next.cue_ball;
-    if (v.state.balls[cue] || !v.next.ball_in_hand) return;
-    const t = this.view3d.table;
-    const [x0, y0] = v.next.ball_in_hand === "D" ? [t.w / 2, t.baulk_y - t.d_radius / 2] : (t.spots.head ?? [t.w / 2, t.l / 4]);
-    const others = Object.values(v.state.balls);
-    const clear = ([x, y]) => others.every((p) => Math.hypot(p[0] - x, p[1] - y) > 2.2 * t.R);
-    for (let ring = 0; ring < 12; ring++) {
-      for (let k = 0; k < Math.max(1, ring * 6); k++) {
-        const a = (2 * Math.PI * k) / Math.max(1, ring * 6);
-        const p = [x0 + ring * 2.5 * t.R * Math.cos(a), y0 + ring * 2.5 * t.R * Math.sin(a)];
-        if (clear(p)) return this.place(p);
-      }
-    }
-    this.place([x0, y0]);
+    if (v.state.balls[cue]) return;
+    const p = freePlace(this.view3d.table, this.state.shot.place, v.state.balls, cue);
+    if (p) this.place(p);
   }
 
+  /** Move the cue ball in hand to p: kept in the region the server allows (and so on the
+   *  table), and next to, not on, a ball it would overlap. */
   place(p) {
-    const v = this.shown;
+    const v = this.state.view;
     const t = this.view3d.table;
-    const x = Math.min(t.w - t.R, Math.max(t.R, p[0]));
-    const y = Math.min(t.l - t.R, Math.max(t.R, p[1]));
-    this.placement = [x, y];
-    this.view3d.setBalls({ ...v.state.balls, [v.next.cue_ball]: this.placement });
+    const region = this.state.shot?.place;
+    if (!region) return;
+    const cue = v.next.cue_ball;
+    const now = this.view3d.ballAt(cue);
+    let at = keepInRegion(t, region, now && inRegion(t, region, now) ? now : usualSpot(t, region), p);
+    if (overlap(t, v.state.balls, cue, at)) at = freePlace(t, region, v.state.balls, cue, at);
+    if (!at) return;
+    this.placement = at;
+    this.view3d.setBalls({ ...v.state.balls, [cue]: at });
     this.controls.show();
   }
 
-  /** Aim at the nearest ball the shooter may want: in snooker a red when reds are on (so the
-   *  break aims up the table at the pack), else the nearest ball. */
-  aimAtNearest(cue) {
-    const from = this.view3d.ballAt(cue);
-    if (!from) return;
-    const { state } = this.shown;
-    const reds = state.on === "red" && this.shown.game === "snooker";
-    let best = null;
-    for (const [id, p] of Object.entries(state.balls)) {
-      if (id === cue || (reds && !id.startsWith("red"))) continue;
-      const d = Math.hypot(p[0] - from[0], p[1] - from[1]);
-      if (!best || d < best.d) best = { d, p };
-    }
-    if (best) this.controls.set({ heading: (Math.atan2(best.p[1] - from[1], best.p[0] - from[0]) * 180) / Math.PI });
-  }
-
   async strike(aim) {
-    const v = this.shown;
-    const missing = missingExtra($("extras"));
-    if (missing) {
+    this.releasedAt = performance.now();
+    const v = this.state.view;
+    const cue = v.next.cue_ball;
+    const missing = missingDeclaration($("extras"));
+    const blocker = this.placement && overlap(this.view3d.table, v.state.balls, cue, this.placement);
+    if (missing || blocker) {
       // Not sent: the referee would refuse it. The controls stay as they were, aim and all.
-      this.controls.setEnabled(v.next.cue_ball, { placing: v.next.ball_in_hand });
-      this.status(missing.words);
-      missing.input.focus();
+      this.controls.setEnabled(cue, { placing: this.state.shot?.place ?? null });
+      this.notice = missing ? missing.words : `The cue ball cannot be placed on ${ballWords(blocker.id)}.`;
+      this.render();
+      missing?.input.focus();
       return;
     }
-    const round = (x, digits) => Number(x.toFixed(digits));
-    const input = {
-      strike: {
-        ball: v.next.cue_ball,
-        speed: round(aim.speed, 3),
-        heading: round(aim.heading, 3),
-        elevation: aim.elevation,
-        a: round(aim.a, 3),
-        b: round(aim.b, 3),
-      },
-    };
+    const round = (x) => Number(x.toFixed(3));
+    const strike = { ball: cue, speed: round(aim.speed), heading: round(aim.heading), elevation: aim.elevation, a: round(aim.a), b: round(aim.b) };
+    const input = { strike, ...readDeclarations($("extras")) };
     if (this.placement) input.place = this.placement;
-    Object.assign(input, readExtras($("extras")));
-    await this.send(input, "Shot sent.");
+    this.aimShare.cancel();
+    await this.aimShare.settled();
+    await this.send(input);
   }
 
-  async send(input, words) {
+  /** Send an intent. Accepted, the status waits for the referee's decision; refused, it says
+   *  why in the server's words (and code) until the next action, the shot left as it was. */
+  async send(input) {
+    this.notice = null;
+    hooks.sending = true;
     try {
-      await this.session.intent(input);
-      this.status(words);
+      this.sentShot = shotId();
+      await this.session.intent(input, this.sentShot);
     } catch (e) {
-      this.status(`Refused: ${e.message}`);
+      this.refused(e);
       if (e.code === "stale_version") await this.session.resync();
-      else this.refresh();
+      else if (this.state.turnOf(this.me) === "shot") this.controls.setEnabled(this.state.view.next.cue_ball, { placing: this.state.shot?.place ?? null });
+    } finally {
+      hooks.sending = false;
     }
   }
 
-  choices(options) {
-    $("choices").replaceChildren(...options.map((o) => button(optionWords(o), () => this.send({ option: o }, "Choice sent."))));
+  refused(e) {
+    this.notice = `Refused (${e.code ?? "error"}): ${e.message.replace(/\.?$/, ".")}`;
+    this.render();
   }
 
-  actions(v, mine) {
-    const box = $("actions");
+  actions(mine) {
+    const v = this.state.view;
     const list = [];
-    const act = (label, name) =>
-      button(label, async () => {
-        try {
-          await this.session.action(name);
-        } catch (e) {
-          this.status(`Refused: ${e.message}`);
-        }
-      });
-    if (mine === null && v.status === "open") {
-      list.push(
-        button(
-          "Join this table",
-          async () => {
-            this.me = await ensurePlayer();
-            try {
-              await this.session.action("join");
-            } catch (e) {
-              this.status(`Refused: ${e.message}`);
-            }
-          },
-          "primary",
-        ),
-      );
-    }
-    if (mine !== null && v.mode !== "practice") {
-      if (v.status === "playing") list.push(act("Resign", "resign"));
-      if (this.claimable() && this.goneSeat() === 1 - mine) list.push(act("Claim the win", "claim"));
-      if (v.status === "over") list.push(act(v.rematch?.[1 - mine] ? "Accept the rematch" : "Offer a rematch", "rematch"));
-      if (v.status === "open") list.push(act("Cancel", "leave"));
-    }
-    if (v.rematch_table) {
-      const a = document.createElement("a");
-      a.href = `/table/${v.rematch_table}`;
-      a.className = "button";
-      a.textContent = "Go to the rematch";
-      list.push(a);
-    }
+    if (mine === null && v.status === "open") list.push(button("Join this table", () => this.join(), "primary"));
     if (mine === null && v.mode !== "practice" && v.status === "playing") {
       list.push(Object.assign(document.createElement("p"), { className: "share muted", textContent: "You are watching this match." }));
     }
     if (v.options.private && v.status === "open" && mine !== null) {
       // The link is the invitation: the table is in no lobby list.
-      const share = document.createElement("p");
-      share.className = "share";
-      share.id = "invite";
+      const share = Object.assign(document.createElement("p"), { className: "share", id: "invite" });
       const link = Object.assign(document.createElement("a"), { href: `/table/${v.id}`, textContent: `${location.origin}/table/${v.id}` });
       share.append("Private table: send this link to your opponent ", link);
       list.push(share);
     }
     if (v.mode !== "practice") {
-      list.push(
-        button("Copy link", () => {
-          navigator.clipboard?.writeText(`${location.origin}/table/${v.id}`);
-          this.banner("Link copied", 1500);
-        }),
-      );
+      const copy = () => {
+        navigator.clipboard?.writeText(`${location.origin}/table/${v.id}`);
+        this.banner("Link copied", 1500);
+      };
+      list.push(button("Copy link", copy));
     }
-    box.replaceChildren(...list);
+    $("actions").replaceChildren(...list);
+    this.match.show($("match"), mine);
     $("chat").hidden = v.mode === "practice";
   }
 
-  chatButtons() {
-    $("chat").replaceChildren(
-      ...Object.entries(QUICK_MESSAGES).map(([code, words]) =>
-        button(words, async () => {
-          this.me ??= await ensurePlayer();
-          this.session.action("messages", { message: code }).catch((e) => this.banner(e.message, 2000));
-        }),
-      ),
-    );
-  }
-
-  showPresence(presence, graceUntil) {
-    if (!this.shown) return;
-    this.shown.presence = presence;
-    this.grace = graceUntil ?? [null, null];
-    this.presenceBanner();
-    if (this.shown.state) {
-      this.scoreboard(this.shown);
-      this.actions(this.shown, this.mySeat());
+  async join() {
+    this.me = await ensurePlayer();
+    try {
+      await this.session.action("join");
+    } catch (e) {
+      this.refused(e);
     }
   }
 
-  /** The seat whose player is gone from a running match, or -1. */
-  goneSeat() {
-    const v = this.shown;
-    if (!v || v.status !== "playing") return -1;
-    return v.presence.findIndex((p, seat) => !p && v.seats[seat]);
-  }
-
-  /** May the opponent of the gone seat claim the win yet (its grace period is over)? */
-  claimable() {
-    const gone = this.goneSeat();
-    const until = gone >= 0 ? this.grace?.[gone] : null;
-    return until != null && until <= Date.now() / 1000;
+  chatButtons() {
+    const say = async (code) => {
+      this.me ??= await ensurePlayer();
+      this.session.action("messages", { message: code }).catch((e) => this.banner(e.message, 2000));
+    };
+    $("chat").replaceChildren(...Object.entries(QUICK_MESSAGES).map(([code, words]) => button(words, () => say(code))));
   }
 
   presenceBanner() {
-    const gone = this.goneSeat();
+    const gone = this.state.goneSeat();
     if (gone < 0) return this.banner(null);
-    const until = this.grace?.[gone];
+    const until = this.state.grace[gone];
     const left = until ? Math.max(0, Math.ceil(until - Date.now() / 1000)) : null;
     const wait = left ? ` (the win may be claimed in ${left} s)` : left === 0 ? " (the win may be claimed)" : "";
-    this.banner(`${seatName(this.shown, gone)} disconnected${wait}`);
+    this.banner(`${seatName(this.state.view, gone)} disconnected${wait}`);
   }
 
   banner(text, ms) {

@@ -9,7 +9,7 @@ import { Subscription } from "../net/relay.js";
 import { TableSounds } from "../play/sound.js";
 import { decisionWords, playerName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
-import { TableView } from "../three/view.js";
+import { TableScene } from "../three/view.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -43,7 +43,7 @@ class ReplayPage {
     this.current = -1; // the shot shown (animating or finished)
     this.playing = true;
     this.speed = 1;
-    this.view3d = new TableView($("table"), table, view.game);
+    this.view3d = new TableScene($("table"), table, view.game);
     diagnostics.balls = () => this.view3d.drawnBalls();
     const wanted = Number(new URLSearchParams(location.search).get("shot"));
     this.startAt = Number.isInteger(wanted) && wanted > 0 ? wanted - 1 : 0;

@@ -1,6 +1,8 @@
 // Aiming and striking: mouse or touch drag on the table, the keyboard, and the on-screen power
-// slider, tip-offset widget, elevation slider and Hit button. It edits one aim
+// slider, tip-offset widget, elevation slider and Hit button; with the cue ball in hand, dragging
+// it or Alt + the arrow keys moves it. It edits one aim
 // {heading, elevation, a, b, power} and calls `strike(aim)`; it knows nothing of the server.
+import { FINE_PLACE_STEP, PLACE_STEP } from "./placing.js";
 
 /** Tip offsets farther from centre than this (fraction of R) would miscue (rules.inputs). */
 export const MISCUE_LIMIT = 0.5;
@@ -33,16 +35,21 @@ export function clampTip(a, b) {
 
 const wrap = (deg) => ((deg % 360) + 360) % 360;
 
+/** Whether element t takes typed keys of its own (a text field, a list, a check box). */
+const typing = (t) => t instanceof HTMLSelectElement || t instanceof HTMLTextAreaElement || (t instanceof HTMLInputElement && t.type !== "range");
+
 export class Controls {
   /**
-   * view: the TableView; els: {canvas, power, powerOut, elevation, elevationOut, tip, hit,
-   * viewToggle}; strike(aim) plays the shot; place(point) moves the cue ball in hand.
+   * view: the TableScene; els: {canvas, power, powerOut, elevation, elevationOut, tip, hit,
+   * viewToggle}; strike(aim) plays the shot; place(point) moves the cue ball in hand; aimed()
+   * is told of every change of the aim.
    */
-  constructor(view, els, { strike, place }) {
+  constructor(view, els, { strike, place, aimed }) {
     this.view = view;
     this.els = els;
     this.strikeShot = strike;
     this.place = place;
+    this.aimed = aimed;
     this.aim = { heading: 90, elevation: 0, a: 0, b: 0, power: Number(els.power.value) };
     this.enabled = false;
     this.placing = null; // the ball-in-hand region while the cue ball may be moved
@@ -86,6 +93,7 @@ export class Controls {
     const words = aim.a === 0 && aim.b === 0 ? "centre" : `side ${aim.a.toFixed(2)}, ${aim.b >= 0 ? "top" : "back"} ${Math.abs(aim.b).toFixed(2)}`;
     els.tip.setAttribute("aria-valuetext", words);
     this.view.setAim(this.enabled ? this.cue : null, aim);
+    this.aimed?.();
   }
 
   strike() {
@@ -97,25 +105,12 @@ export class Controls {
 
   bindKeys() {
     window.addEventListener("keydown", (e) => {
-      if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;
-      const { aim } = this;
       if (e.key === "v" || e.key === "V") {
-        this.toggleView();
+        if (!typing(e.target)) this.toggleView();
         return;
       }
-      if (!this.enabled) return;
-      const step = e.ctrlKey || e.metaKey ? FINE_STEP : STEP;
-      let handled = true;
-      if (e.key === "ArrowLeft" && e.shiftKey) this.set({ a: aim.a - SPIN_STEP });
-      else if (e.key === "ArrowRight" && e.shiftKey) this.set({ a: aim.a + SPIN_STEP });
-      else if (e.key === "ArrowLeft") this.set({ heading: aim.heading + step });
-      else if (e.key === "ArrowRight") this.set({ heading: aim.heading - step });
-      else if (e.key === "ArrowUp") this.set({ b: aim.b + SPIN_STEP });
-      else if (e.key === "ArrowDown") this.set({ b: aim.b - SPIN_STEP });
-      else if (e.key === " ") {
-        if (!this.charging) this.startCharge();
-      } else handled = false;
-      if (handled) e.preventDefault();
+      if (!this.enabled || !this.answersGameKey(e)) return;
+      if (this.gameKey(e)) e.preventDefault();
     });
     window.addEventListener("keyup", (e) => {
       if (e.key !== " " || !this.charging) return;
@@ -125,6 +120,48 @@ export class Controls {
       this.charging = null;
       this.strike();
     });
+  }
+
+  /** Whether key event e is the game's: everywhere but in a control that owns it. The power
+   *  and elevation sliders keep Up/Down (their own value), the spin disc takes the arrows
+   *  as spin (its label says so), form fields and buttons keep their keys. */
+  answersGameKey(e) {
+    const t = e.target;
+    if (t === this.els.tip) return e.key === " " || e.key.startsWith("Arrow");
+    if (t instanceof HTMLInputElement && t.type === "range") return e.key === " " || e.key === "ArrowLeft" || e.key === "ArrowRight";
+    return !typing(t) && !(t instanceof HTMLButtonElement);
+  }
+
+  /** Act on game key e; whether it was one. */
+  gameKey(e) {
+    const { aim } = this;
+    const onTip = e.target === this.els.tip;
+    if (e.altKey && this.placing && e.key.startsWith("Arrow")) return this.nudgeCueBall(e);
+    const step = e.ctrlKey || e.metaKey ? FINE_STEP : STEP;
+    const spin = e.shiftKey || onTip;
+    if (e.key === "ArrowLeft" && spin) this.set({ a: aim.a - SPIN_STEP });
+    else if (e.key === "ArrowRight" && spin) this.set({ a: aim.a + SPIN_STEP });
+    else if (e.key === "ArrowLeft") this.set({ heading: aim.heading + step });
+    else if (e.key === "ArrowRight") this.set({ heading: aim.heading - step });
+    else if (e.key === "ArrowUp") this.set({ b: aim.b + SPIN_STEP });
+    else if (e.key === "ArrowDown") this.set({ b: aim.b - SPIN_STEP });
+    else if (e.key === " ") {
+      if (!this.charging) this.startCharge();
+    } else return false;
+    return true;
+  }
+
+  /** Alt + an arrow key moves the cue ball in hand, across the screen as the camera sees it. */
+  nudgeCueBall(e) {
+    const cue = this.view.ballAt(this.cue);
+    if (!cue) return true;
+    const step = e.ctrlKey || e.metaKey ? FINE_PLACE_STEP : PLACE_STEP;
+    const h = this.view.shownMode === "top" ? 90 : this.aim.heading;
+    const forward = [Math.cos((h * Math.PI) / 180), Math.sin((h * Math.PI) / 180)];
+    const right = [forward[1], -forward[0]];
+    const [dx, dy] = { ArrowUp: forward, ArrowDown: forward.map((v) => -v), ArrowRight: right, ArrowLeft: right.map((v) => -v) }[e.key];
+    this.place([cue[0] + dx * step, cue[1] + dy * step]);
+    return true;
   }
 
   startCharge() {

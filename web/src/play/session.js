@@ -10,14 +10,14 @@ import { Subscription } from "../net/relay.js";
 export class TableSession {
   /**
    * handlers: onView(view) for a whole view (start, resync, `table` messages);
-   * onOutcome(message) -> Promise resolved when it has been shown; onChat, onPresence;
+   * onOutcome(message) -> Promise resolved when it has been shown; onChat, onPresence, onAim
+   * (the shooter's aim at the version shown);
    * onConnection("open" | "closed").
    */
   constructor(id, handlers) {
     this.id = id;
     this.h = handlers;
     this.version = -1;
-    this.view = null;
     this.queue = Promise.resolve();
     this.heartbeat = null;
   }
@@ -41,7 +41,6 @@ export class TableSession {
 
   takeView(view) {
     this.version = view.version;
-    this.view = view;
     this.enqueue(() => this.h.onView(view));
   }
 
@@ -57,6 +56,7 @@ export class TableSession {
     const { kind } = message;
     if (kind === "chat") return this.h.onChat?.(message);
     if (kind === "presence") return this.h.onPresence?.(message);
+    if (kind === "aim") return message.version === this.version && this.h.onAim?.(message);
     if (kind !== "outcome" && kind !== "table") return;
     if (message.version <= this.version) return;
     if (message.version > this.version + 1) {
@@ -64,13 +64,8 @@ export class TableSession {
       return;
     }
     this.version = message.version;
-    if (kind === "table") {
-      this.view = message.view;
-      this.enqueue(() => this.h.onView(message.view));
-    } else {
-      this.view = { ...this.view, ...pick(message, "state", "next", "rack", "racks_won", "status", "winner"), version: message.version, last_outcome: message };
-      this.enqueue(() => this.h.onOutcome(message));
-    }
+    if (kind === "table") this.enqueue(() => this.h.onView(message.view));
+    else this.enqueue(() => this.h.onOutcome(message));
   }
 
   async resync() {
@@ -82,9 +77,10 @@ export class TableSession {
     }
   }
 
-  /** Send an intent (a shot or a choice) for the version we show; resolves to the answer. */
-  intent(input) {
-    return post(`/api/tables/${this.id}/intents`, { version: this.version, shot_id: shotId(), input });
+  /** Send an intent (a shot or a choice) for the version we show, under shot id `id`;
+   *  resolves to the answer. */
+  intent(input, id = shotId()) {
+    return post(`/api/tables/${this.id}/intents`, { version: this.version, shot_id: id, input });
   }
 
   action(name, body = {}) {
@@ -106,8 +102,4 @@ export class TableSession {
       this.heartbeat = null;
     }
   }
-}
-
-function pick(object, ...keys) {
-  return Object.fromEntries(keys.map((k) => [k, object[k]]));
 }

@@ -1,6 +1,6 @@
 // The referee's decisions and the table's state in words, for the status line (role="status",
 // read out by screen readers) and the scoreboard. Names are always set as text, never as HTML.
-import { CLOCK_PREFIX } from "../net/protocol.js";
+import { BOTS, CLOCK_PREFIX } from "../net/protocol.js";
 
 const OPTION_WORDS = {
   play_on: "Play on",
@@ -8,7 +8,15 @@ const OPTION_WORDS = {
   replace: "Replace the balls",
 };
 
-const REGION_WORDS = {
+/** What the referee's `visit` counts in each game. */
+const BREAK_WORDS = {
+  snooker: "break (points)",
+  three_cushion: "run (points)",
+  nineball: "run (balls in a visit)",
+  eightball: "run (balls in a visit)",
+};
+
+export const REGION_WORDS = {
   anywhere: "anywhere",
   kitchen: "behind the head string",
   D: "in the D",
@@ -30,31 +38,59 @@ function list(items) {
   return `${items.slice(0, -1).join(", ")} and ${items[items.length - 1]}`;
 }
 
+/** The server's bots in its words (net/protocol.js): the levels 1 to 5, then the picker. */
+export const BOT_LEVELS = Object.fromEntries(
+  Object.entries(BOTS)
+    .sort(([, a], [, b]) => (a.level || 9) - (b.level || 9))
+    .map(([id, { level, name }]) => [id, level ? `${name} bot (level ${level})` : `${name} bot`]),
+);
+export const DEFAULT_BOT = "bot:3";
+
 export function seatName(view, seat) {
   if (seat == null) return "";
-  return view.seats[seat]?.name ?? `Player ${seat + 1}`;
+  const player = view.seats[seat];
+  // A bot's seat is "bot:" and its chooser (docs/protocol.md): named by its level in words.
+  if (player?.id.startsWith("bot:")) return BOT_LEVELS[player.id.slice(4)] ?? player.name;
+  return player?.name ?? `Player ${seat + 1}`;
 }
 
 /** The name of the referee's player 0 or 1 (its decisions and scores count by player): the
- *  seat's in a match; on a practice table, where seat 0 plays both sides, "P1" or "P2". */
+ *  seat's in a match; on a practice table, where one person plays both sides, the person's
+ *  name with the side (the scoreboard shows both). */
 export function playerName(view, player) {
-  return view.mode === "practice" ? `P${player + 1}` : seatName(view, player);
+  return view.mode === "practice" ? `${seatName(view, 0)} (side ${player + 1})` : seatName(view, player);
 }
 
-/** One decision as sentences: who shot, what fell, fouls, notes, the end of a rack or match. */
+/** Who is credited in a decision: the seat's name, on a practice table the one person. */
+function creditedName(view, player) {
+  return view.mode === "practice" ? seatName(view, 0) : seatName(view, player);
+}
+
+/** The referee's sentences name its players "P1" and "P2": here they name the people. */
+export function withNames(view, text) {
+  return text.replace(/\bP([12])\b/g, (_, n) => creditedName(view, Number(n) - 1));
+}
+
+const sentence = (text) => `${text.charAt(0).toUpperCase()}${text.slice(1)}${/[.!?]$/.test(text) ? "" : "."}`;
+
+/** One decision as sentences: who shot, what fell or scored, fouls, notes, the end of a rack. */
 export function decisionWords(view, d) {
-  const who = view.mode === "practice" ? seatName(view, 0) : seatName(view, d.player);
+  const who = creditedName(view, d.player);
   const out = [];
-  const potted = d.pocketed.map(ballWords);
-  out.push(potted.length ? `${who} potted ${list(potted)}.` : `${who} potted nothing.`);
-  // Fouls and notes carry codes (to test and translate) beside their words, shown here.
-  for (const foul of d.fouls) out.push(`Foul: ${foul.reason}.`);
-  for (const note of d.notes) out.push(`${note.text.charAt(0).toUpperCase()}${note.text.slice(1)}.`);
   const points = d.points.reduce((a, b) => a + b, 0);
-  if (points && view.game !== "nineball" && view.game !== "eightball") {
-    out.push(d.points.map((p, seat) => (p ? `${playerName(view, seat)} +${p}` : null)).filter(Boolean).join(", ") + ".");
+  if (view.game === "three_cushion") {
+    out.push(points ? `${who} scored ${points === 1 ? "a point" : `${points} points`}.` : `${who} did not score.`);
+  } else {
+    const potted = d.pocketed.map(ballWords);
+    out.push(potted.length ? `${who} potted ${list(potted)}.` : `${who} potted nothing.`);
   }
-  if (d.over && d.winner != null) out.push(`${playerName(view, d.winner)} wins the ${view.game === "snooker" ? "frame" : "rack"}.`);
+  // Fouls and notes carry codes (to test and translate) beside their words, shown here.
+  for (const foul of d.fouls) out.push(`Foul: ${withNames(view, foul.reason)}.`);
+  for (const note of d.notes) out.push(sentence(withNames(view, note.text)));
+  if (points && view.game === "snooker") {
+    out.push(d.points.map((p, seat) => (p ? `${creditedName(view, seat)} +${p}` : null)).filter(Boolean).join(", ") + ".");
+  }
+  if (d.over && d.winner != null) out.push(`${creditedName(view, d.winner)} wins the ${view.game === "snooker" ? "frame" : "rack"}.`);
   return out.join(" ");
 }
 
@@ -87,6 +123,6 @@ export function scoreWords(view) {
   const scores = [0, 1].map((player) => `${playerName(view, player)} ${s.scores[player]}`).join(", ");
   const unit = view.game === "snooker" || view.game === "three_cushion" ? "points" : "racks";
   const race = view.options?.race_to > 1 ? ` Racks won ${view.racks_won.join("-")}.` : "";
-  const best = view.mode === "practice" && Math.max(...s.best) > 0 ? ` Best break: ${Math.max(...s.best)}.` : "";
-  return `Score (${unit}): ${scores}. Break: ${s.visit}.${best}${race}`;
+  const best = view.mode === "practice" && Math.max(...s.best) > 0 ? ` Best ${BREAK_WORDS[view.game]}: ${Math.max(...s.best)}.` : "";
+  return `Score (${unit}): ${scores}. Current ${BREAK_WORDS[view.game]}: ${s.visit}.${best}${race}`;
 }

@@ -1,4 +1,4 @@
-// Plays a shot's trajectory on a TableView at the display's frame rate: every frame evaluates
+// Plays a shot's trajectory on a TableScene at the display's frame rate: every frame evaluates
 // each ball's polynomial segment at the shot's clock and turns the ball by the spin it had
 // meanwhile. A pocketed ball sinks into its pocket's hole and disappears. Each event the clock
 // passes while playing is handed to `onEvent` (the sounds).
@@ -10,7 +10,7 @@ const DROP_TIME = 0.18;
 
 export class Animation {
   /**
-   * view: the TableView; trajectory: {duration, events, balls: {id: [segment, ...]}};
+   * view: the TableScene; trajectory: {duration, events, balls: {id: [segment, ...]}};
    * onDone: called once when the shot has played to its end (not when stopped);
    * onEvent(type, speed): each event as the clock reaches it while playing, with how hard it
    * struck (m/s, lib/trajectory.js eventSpeed).
@@ -66,6 +66,7 @@ export class Animation {
 
   frame(now) {
     if (this.last !== null) this.frameTimes.push(now - this.last);
+    else this.firstFrameAt = now; // when the motion was first drawn (performance.now() time)
     const dt = this.last === null || this.paused ? 0 : ((now - this.last) / 1000) * this.speed;
     this.last = now;
     this.seek(Math.min(this.trajectory.duration, this.time + dt));

@@ -3,6 +3,7 @@
 // (`invalidate`) or while an animation runs, so an idle table costs nothing.
 import * as THREE from "three";
 import { makeBalls } from "./balls.js";
+import { regionMesh, regionOutline } from "./region.js";
 import { frame, makeTable } from "./table.js";
 
 const CUE_LENGTH = 1.45;
@@ -16,6 +17,8 @@ const SLOW_FRAME_MS = 40;
 const MIN_SCALE = 0.4;
 /** Renderers that run WebGL on the CPU. */
 const SOFTWARE = /swiftshader|llvmpipe|softpipe|software|basic render/i;
+/** The ghost ball's colour: no marking, a legal first contact, a foul. */
+const GHOST = { plain: 0xffffff, legal: 0x7dff9a, foul: 0xff5a4a };
 
 /** Whether WebGL here is drawn by the CPU (SwiftShader, llvmpipe, ...), by the renderer's name. */
 export function softwareRenderer() {
@@ -68,7 +71,7 @@ function makeCue() {
   return group;
 }
 
-export class TableView {
+export class TableScene {
   constructor(canvas, table, game) {
     this.canvas = canvas;
     this.table = table;
@@ -103,6 +106,9 @@ export class TableView {
     if (this.software) simplerMaterials(this.scene);
     this.heading = 90;
     this.aim = { heading: 90, elevation: 0, a: 0, b: 0, power: 0 };
+    this.targets = null; // the balls the server lists as legal first contacts (null: unmarked)
+    this.contact = null; // the aim line's first ball {ball, legal}, or null
+    this.region = null;
     new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
   }
@@ -214,6 +220,23 @@ export class TableView {
     return out;
   }
 
+  /** Draw ball-in-hand region `name` ("kitchen", "D", "anywhere"; null: none) on the cloth. */
+  showRegion(name) {
+    if (this.region) this.scene.remove(this.region);
+    const outline = name ? regionOutline(this.table, name) : null;
+    this.region = outline ? regionMesh(outline, this.frame.toWorld) : null;
+    this.regionName = outline ? name : null;
+    if (this.region) this.scene.add(this.region);
+    this.invalidate();
+  }
+
+  /** Mark the aim's first ball legal or a foul by the server's list `targets` (null: unmarked). */
+  setTargets(targets) {
+    this.targets = targets;
+    this.placeAimMarks();
+    this.invalidate();
+  }
+
   /** Show the cue, aim line and ghost ball for cue ball `cueId` (null hides them). */
   setAim(cueId, aim) {
     this.cueId = cueId;
@@ -226,6 +249,7 @@ export class TableView {
     const cuePos = this.cueId ? this.ballAt(this.cueId) : null;
     const show = Boolean(cuePos) && !this.animating;
     for (const m of [this.cue, this.aimLine, this.objectLine, this.ghost]) m.visible = show;
+    this.contact = null;
     if (!show) return;
     const { heading, elevation, a, b, power } = this.aim;
     const R = this.table.R;
@@ -238,6 +262,10 @@ export class TableView {
     this.aimLine.computeLineDistances();
     this.ghost.position.copy(toWorld(hit.at[0], hit.at[1], R));
     this.ghost.visible = Boolean(hit.ball);
+    this.contact = hit.ball ? { ball: hit.ball, legal: this.targets ? this.targets.includes(hit.ball) : null } : null;
+    const look = this.contact?.legal === true ? "legal" : this.contact?.legal === false ? "foul" : "plain";
+    this.ghost.material.color.setHex(GHOST[look]);
+    this.ghost.material.opacity = look === "plain" ? 0.28 : 0.5;
     this.objectLine.visible = Boolean(hit.ball);
     if (hit.ball) {
       const o = this.ballAt(hit.ball);
