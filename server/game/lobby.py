@@ -212,11 +212,16 @@ class Lobby:
     async def quick_status(self, player: PlayerInfo) -> QuickStatus:
         """Where the player's quick match stands. A fresh pairing whose table is missing (the
         request that paired them failed, or its replica died, before creating it) gets its
-        table from this request; an old one whose table is gone (expired) is over: idle."""
+        table from this request; an old one whose table is gone (expired) is over: idle. So a
+        `paired` answer always names a table that exists."""
+        await self._storage.touch_quick(player.id, time.time() + QUICK_LAPSE)  # if waiting
         pairing = await self._storage.pairing(player.id)
         if pairing is None:
-            await self._storage.touch_quick(player.id, time.time() + QUICK_LAPSE)
-            return await self._storage.quick_status(player.id)
+            status = await self._storage.quick_status(player.id)
+            if status.status != "paired":
+                return status
+            pairing = await self._storage.pairing(player.id)  # paired between the two reads
+            assert pairing is not None
         if await self._storage.get_table(pairing.table) is None:
             if time.time() - pairing.at > PAIRING_KEPT:
                 return QuickStatus(status="idle")
