@@ -239,12 +239,17 @@ class TableActor:
         raise AssertionError(f"unknown command {command!r}")
 
     # ----- reading the table ------------------------------------------------------------------
+    async def _stored(self) -> TableRecord:
+        """The stored table as it is (NOT_FOUND if there is none), pending input and all."""
+        record = await self._context.storage.get_table(self.table_id)
+        if record is None:
+            raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
+        return record
+
     async def _settled(self) -> TableRecord:
         """The stored table once no input is pending (playing an abandoned one first)."""
         while True:
-            record = await self._context.storage.get_table(self.table_id)
-            if record is None:
-                raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
+            record = await self._stored()
             pending = record.pending
             if pending is None:
                 return record
@@ -409,9 +414,7 @@ class TableActor:
     async def _heartbeat(self, player: PlayerInfo) -> PresenceMessage:
         """Record that `player` is here; announce the table's presence when it changed."""
         context = self._context
-        record = await context.storage.get_table(self.table_id)
-        if record is None:
-            raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
+        record = await self._stored()
         seat = tables.seated(record, player)
         now = time.time()
         await context.storage.heartbeat(record.id, seat, now)
@@ -429,9 +432,7 @@ class TableActor:
         return message
 
     async def _quick_message(self, player: PlayerInfo, text: QuickText) -> ChatMessage:
-        record = await self._context.storage.get_table(self.table_id)
-        if record is None:
-            raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
+        record = await self._stored()
         message = ChatMessage(
             version=record.version,
             from_name=player.name,
@@ -443,9 +444,7 @@ class TableActor:
 
     async def _aim(self, player: PlayerInfo, aim: AimRequest) -> AimMessage:
         """Pass on the aim of the player to act; refused for anyone else."""
-        record = await self._context.storage.get_table(self.table_id)
-        if record is None:
-            raise ServiceError(ErrorCode.NOT_FOUND, "no such table")
+        record = await self._stored()
         seat = tables.seated(record, player)
         if tables.acting_seat(record) != seat:
             raise ServiceError(ErrorCode.WRONG_PHASE, "only the player to act has an aim to show")

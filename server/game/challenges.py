@@ -12,7 +12,6 @@ message, and an accepted challenge also as `paired`, which the pages already fol
 
 from __future__ import annotations
 
-import hashlib
 import time
 
 from server.game import tables
@@ -20,7 +19,13 @@ from server.game.challenge_record import ChallengeRecord
 from server.game.lobby import Lobby, new_seed
 from server.game.publisher import Publisher
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import CHALLENGES_PENDING, QUICK_LAPSE, new_challenge_id, player_channel
+from server.protocol.ids import (
+    CHALLENGES_PENDING,
+    QUICK_LAPSE,
+    derived_table_id,
+    new_challenge_id,
+    player_channel,
+)
 from server.protocol.models import (
     Challenge,
     ChallengeCreate,
@@ -37,7 +42,7 @@ from server.storage import Storage
 
 def challenge_table_id(challenge_id: str) -> str:
     """The table of an accepted challenge: one, whoever and however often it is accepted."""
-    return hashlib.sha256(f"challenge:{challenge_id}".encode()).hexdigest()[:20]
+    return derived_table_id("challenge", challenge_id)
 
 
 class Challenges:

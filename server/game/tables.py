@@ -8,7 +8,6 @@ goes to `breaker` by starting the rack with `turn = breaker` (alternating rack b
 
 from __future__ import annotations
 
-import hashlib
 import time
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -16,7 +15,13 @@ from pydantic import BaseModel, ConfigDict, Field
 from server.game import refereeing
 from server.game.refereeing import GameName, PlayerInput, State
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import BOT_LEVELS, PRESENCE_TIMEOUT, BotName, table_channel
+from server.protocol.ids import (
+    BOT_LEVELS,
+    PRESENCE_TIMEOUT,
+    BotName,
+    derived_table_id,
+    table_channel,
+)
 from server.protocol.models import (
     Constraints,
     Ending,
@@ -200,10 +205,8 @@ def claim(
 
 
 def rematch_id(table_id: str) -> str:
-    """The id of a finished match's rematch table: one per match, whoever creates it (every
-    replica computes the same id, and storage refuses a second table under it). Derived from
-    the match's own id, which is as hard to guess."""
-    return hashlib.sha256(f"rematch:{table_id}".encode()).hexdigest()[:20]
+    """The id of a finished match's rematch table: one per match, whoever creates it."""
+    return derived_table_id("rematch", table_id)
 
 
 def offer_rematch(record: TableRecord, player: PlayerInfo) -> TableRecord:

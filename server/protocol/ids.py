@@ -9,6 +9,7 @@ fails when the two differ). Nothing else writes these literals.
 
 from __future__ import annotations
 
+import hashlib
 import secrets
 from enum import StrEnum
 
@@ -109,6 +110,13 @@ def new_challenge_id() -> str:
 
 def new_replay_id() -> str:
     return secrets.token_hex(12)
+
+
+def derived_table_id(purpose: str, source_id: str) -> str:
+    """The id of the one table made for `purpose` from `source_id` (a match's rematch, an
+    accepted challenge): every replica computes the same, and storage refuses a second table
+    under it. As hard to guess as the id it comes from."""
+    return hashlib.sha256(f"{purpose}:{source_id}".encode()).hexdigest()[:20]
 
 
 def server_input_id(prefix: str, version: int) -> str:
