@@ -71,5 +71,7 @@ def both_edges_clear(
 
 def snookered(cue_ball: str, balls_on: set[str], balls: Mapping[str, Point], R: float) -> bool:
     """WPBSA: snookered when no ball on can be hit at both extreme edges in a straight line
-    free of obstruction by balls not on."""
-    return not any(both_edges_clear(cue_ball, b, balls, R, balls_on) for b in balls_on)
+    free of obstruction by balls not on (a ball on that is not on the table cannot be hit)."""
+    return not any(
+        both_edges_clear(cue_ball, b, balls, R, balls_on) for b in balls_on if b in balls
+    )

@@ -7,7 +7,7 @@ printed. replay reads a JSON record or a share link, and refuses (exit status 2,
 stderr naming the input) a record that does not replay to the game it states. The only module
 of `rules` that does I/O.
 
-arena plays games between two choosers (rules.bot.chooser: picker, bot, bot:N) under one
+arena plays games between two choosers (rules.bot.chooser: picker, mcts, bot, bot:N) under one
 execution noise and prints each side's results (rules.bot.arena), progress on stderr.
 """
 
@@ -46,7 +46,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def register_arena(sub: argparse._SubParsersAction) -> None:
-    arena = sub.add_parser("arena", help="play games between two choosers (picker, bot, bot:N)")
+    arena = sub.add_parser(
+        "arena", help="play games between two choosers (picker, mcts, bot, bot:N)"
+    )
     arena.add_argument("game", choices=[g.value for g in Game])
     arena.add_argument("--a", default="bot", help="first chooser (default: bot)")
     arena.add_argument("--b", default="picker", help="second chooser (default: picker)")
@@ -159,6 +161,11 @@ def arena_lines(result: dict) -> Iterator[str]:
             f"{s['highest']:>9}{s['decision_mean_s']:>9.3f}{s['decision_p95_s']:>8.3f}"
             f"{s['simulations_mean']:>7.0f}"
         )
+    for key in ("a", "b"):
+        s = result[key]
+        if s["losses"]:
+            why = ", ".join(f"{k} {n}" for k, n in s["losses"].items())
+            yield f"{s['name']} lost: {why}"
 
 
 def run_arena(args: argparse.Namespace) -> int:

@@ -20,10 +20,12 @@ from __future__ import annotations
 import math
 import statistics
 import time
+from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from rules.bot.chooser import Chooser
+from rules.bot.losses import Turn, classify
 from rules.bot.noise import Noise, draws, perturb
 from rules.bot.search import Report
 from rules.codes import RuleError
@@ -60,6 +62,7 @@ class Side:
     highest: int = 0
     times: list[float] = field(default_factory=list)
     simulations: list[int] = field(default_factory=list)
+    losses: Counter[str] = field(default_factory=Counter)
 
     def summary(self, games: int) -> dict:
         times = sorted(self.times)
@@ -79,6 +82,7 @@ class Side:
             "simulations_mean": round(statistics.fmean(self.simulations), 1)
             if self.simulations
             else 0.0,
+            "losses": dict(self.losses.most_common()),
         }
 
 
@@ -117,6 +121,7 @@ def play_game(
     state = start(setup)
     R = referee(setup.game).TABLE.R
     visits: list[_Visit] = [_Visit(state.turn)]
+    turns: list[Turn] = []
     for n in range(max_inputs):
         if state.over:
             break
@@ -125,7 +130,8 @@ def play_game(
         action = choosers[seat].choose(state)
         seats[seat].times.append(clock() - t0)
         report = getattr(choosers[seat], "last", None)
-        if isinstance(action, Shot) and isinstance(report, Report):
+        searched = isinstance(action, Shot) and isinstance(report, Report)
+        if searched:
             seats[seat].simulations.append(report.simulations)
         try:
             check(state, action)
@@ -135,6 +141,7 @@ def play_game(
             action = perturb(action, noise, draws(seed, 1, "arena", number, n)[0], R)
         before = state
         outcome = play(state, action)
+        turns.append(Turn(seat, action, report.kind if searched else None, outcome.decision))
         state = outcome.state
         if outcome.decision is not None:
             visits[-1].scored += scored_by(before, outcome.decision)
@@ -147,6 +154,7 @@ def play_game(
     winner = state.winner if state.over else None
     if winner is not None:
         seats[winner].wins += 1
+        seats[1 - winner].losses[classify(turns, 1 - winner)] += 1
         if sum(1 for v in visits if v.seat == winner) == 1:
             seats[winner].run_outs += 1
     return GameResult(winner, n + 1)

@@ -318,10 +318,10 @@ def carom_candidates(state: State, budget: int) -> list[Candidate]:
     return out
 
 
-def candidates(state: State, level: Level) -> list[Candidate]:
+def candidates(state: State, level: Level, strokes: Strokes | None = None) -> list[Candidate]:
     """The candidates for the player to shoot in `state` (no choice pending), those the
     referee accepts, in a fixed order: pots first (likeliest first), then contacts, then
-    push-outs."""
+    push-outs. strokes: how pots and contacts are varied (default: the level's set)."""
     now = allowed(state)
     ref = referee(state.game)
     if not ref.TABLE.pockets:
@@ -331,7 +331,7 @@ def candidates(state: State, level: Level) -> list[Candidate]:
     else:
         where = spots(state)
         targets = now.targets | (now.options.nominate if state.free_ball else frozenset())
-        strokes = FINE if level.fine else COARSE
+        strokes = strokes or (FINE if level.fine else COARSE)
         found = pot_candidates(where, targets, level.pots, strokes)
         for spot in where[:CONTACT_SPOTS]:
             found += contact_candidates(spot, targets, strokes)

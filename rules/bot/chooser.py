@@ -6,7 +6,8 @@ game service's bot seats and `billiards play --bot` all take one, built from a n
 `chooser`:
 
 - "picker": the simple shot pickers (rules.pickers), no search;
-- "bot:N": the searching bot at level N (rules.bot.levels); "bot": the strongest level.
+- "bot:N": the searching bot at level N (rules.bot.levels); "bot": the strongest level;
+- "mcts": the search baseline of the course and contest agents (rules.bot.mcts).
 
 A bot is deterministic for its seed: the same seed and state give the same input (the search
 and the level's own execution noise are both drawn from streams keyed by the seed and the
@@ -25,6 +26,7 @@ from typing import Protocol, runtime_checkable
 
 import physics
 from rules.bot.levels import STRONGEST, Level, level
+from rules.bot.mcts import Mcts
 from rules.bot.noise import draws, perturb, tournament
 from rules.bot.search import Evaluator, InProcess, Report, Workers, search, state_key
 from rules.bot.value import choice_values
@@ -103,12 +105,15 @@ class Bot:
 def chooser(name: str, seed: int = 0, *, expect: float = 1.0, workers: int = 1) -> Chooser:
     """The chooser called `name` ("picker", "bot" or "bot:N"), seeded with `seed`.
 
-    Raises ValueError for any other name."""
+    expect: the execution noise factor a searching chooser plans under. Raises ValueError for
+    any other name."""
     if name == "picker":
         return Picker()
+    if name == "mcts":
+        return Mcts(seed, noise=expect)
     if name == "bot":
         return Bot(STRONGEST, seed, expect=expect, workers=workers)
     kind, _, number = name.partition(":")
     if kind == "bot" and number.isdigit():
         return Bot(level(int(number)), seed, expect=expect, workers=workers)
-    raise ValueError(f"unknown chooser {name!r}: picker, bot or bot:N")
+    raise ValueError(f"unknown chooser {name!r}: picker, mcts, bot or bot:N")

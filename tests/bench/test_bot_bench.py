@@ -1,0 +1,24 @@
+"""bench/bot.py: a row played, its seed printed so it can be played again, and why it lost."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_a_row_prints_its_seed_its_bar_and_its_losses():
+    out = subprocess.run(
+        [sys.executable, "bench/bot.py", "--rows", "ladder:1", "--seed", "1234"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    rows = [line for line in out.splitlines() if line.startswith("ladder ")]
+    assert len(rows) == 8  # four steps in the table, four in the losses
+    assert all("1234" in r and ">= 60% wins" in r for r in rows[:4])
+    assert all("(only 1 of 100 games)" in r for r in rows[:4])
+    assert all(" lost: " in r for r in rows[4:])
