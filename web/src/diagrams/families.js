@@ -34,9 +34,8 @@ function drawFamily(box, family, data, measure) {
     const colour = SHOT_COLOURS[i % SHOT_COLOURS.length];
     view.line(shot.approach, colour, 1, [3, 3]);
     if (shot.centres) view.line(shot.centres, "#ffffff88", 1, [6, 4]);
-    for (const [ball, track] of Object.entries(shot.tracks)) {
-      view.line(track, ball === "object" ? BALL_COLOURS.object : colour, 2);
-    }
+    // The object ball's track bold, the cue ball's thin, both in the shot's colour.
+    for (const [ball, track] of Object.entries(shot.tracks)) view.line(track, colour, ball === "object" ? 2.5 : 1.2);
     view.ball(shot.approach[1], data.R, BALL_COLOURS.cue);
     const item = document.createElement("span");
     item.style.color = colour;

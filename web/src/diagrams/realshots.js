@@ -26,7 +26,7 @@ function draw(canvas, table, fit) {
 export async function realShots(report) {
   const [list, tables] = await Promise.all([get("/api/real-shots"), get("/web/tables")]);
   const table = tables.three_cushion;
-  $("real-source").textContent = `${list.shots.length} shots: ${list.source} (median cue-ball RMSE ${list.median_rmse_cm.toFixed(2)} cm, engine version ${list.engine_version}). A refit runs at most ${list.max_simulations} simulations and ${list.max_seconds} s of the server's CPU.`;
+  $("real-source").textContent = `${list.source} (median cue-ball RMSE ${list.median_rmse_cm.toFixed(2)} cm, engine version ${list.engine_version}). A refit runs at most ${list.max_simulations} simulations and ${list.max_seconds} s of the server's CPU.`;
   const select = $("real-shot");
   for (const s of list.shots) {
     select.append(new Option(`#${s.id}: ${s.duration.toFixed(1)} s, cue ${s.rmse_cm.toFixed(1)} cm`, String(s.id)));
