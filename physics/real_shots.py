@@ -144,6 +144,7 @@ def refit(
     rmse, rmse_all = problem.rmse_of(problem.at_samples(segments, float(x[4])))
     heading, speed, a, b, t0 = (float(v) for v in x)
     a, b = on_cue_tip(a, b)
+    heading = (heading + 180.0) % 360.0 - 180.0  # a refit may turn it past a whole turn
     return Refit(
         id=rec.id,
         cue=rec.cue,

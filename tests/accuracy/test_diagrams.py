@@ -238,3 +238,7 @@ def test_a_refit_keeps_to_its_bound_and_answers_its_best():
     assert r.rmse_cm < before
     late = real_shots.refit(entry["id"], start, {}, real_shots.Bound(10**6, 0.0), refine=True)
     assert (late.stopped, late.simulations, late.rmse_cm) == ("time", 1, before)
+    turned = {**start, "heading": start["heading"] + 360.0}
+    again = real_shots.refit(entry["id"], turned, {}, unbounded, refine=False)
+    assert again.rmse_cm == pytest.approx(before, rel=1e-6)
+    assert -180.0 <= again.strike["heading"] < 180.0  # within a turn, as the wire requires
