@@ -47,8 +47,9 @@ from server.protocol.real_shots import (
 if TYPE_CHECKING:
     from server.game.workers import WorkerPool
 
-#: Answers computed at once per process (the background worker does one at a time).
-MAX_RUNNING = 2
+#: Answers being computed at once per process (the background worker does one at a time, the
+#: others queue): a page loading, a refit and another visitor's page.
+MAX_RUNNING = 4
 #: Seconds of worker time per minute one client address may spend on the diagrams.
 DIAGRAM_SECONDS = 20.0
 #: Bytes of answers kept per process (a family's answer is some 100 KB).
