@@ -88,17 +88,31 @@ class Problem:
         """How many residuals: two per recorded sample."""
         return 2 * sum(len(tr.t) for tr in self.rec.tracks.values())
 
-    def simulate(self, x: np.ndarray) -> dict[str, np.ndarray] | None:
-        """Each ball's simulated positions at its recorded sample times (engine frame, m),
-        for the strike vector x = (heading, speed, a, b, t0); None if the engine gave up."""
-        heading, speed, a, b, t0 = (float(v) for v in x)
-        a, b = _on_cue_tip(a, b)
+    def segments(self, x: np.ndarray) -> dict[str, list[tuple]] | None:
+        """Each ball's segment records (physics.records) of the shot of the strike vector
+        x = (heading, speed, a, b, t0), in the shot's time (the strike at 0, which is t0 in
+        the recording's); None if the engine gave up."""
+        heading, speed, a, b, _ = (float(v) for v in x)
+        a, b = on_cue_tip(a, b)
         v, w = cue_strike(min(max(speed, 1e-3), MAX_SPEED), heading, 0.0, a, b, self.scene.params)
         scene = replace(self.scene, strike_motion=Motion.model_construct(v=v, w=w))
         self.simulations += 1
         try:
             _, trajectories, _, _, _ = Simulation(scene).run_records()
         except SimulationError:
+            return None
+        return trajectories
+
+    def simulate(self, x: np.ndarray) -> dict[str, np.ndarray] | None:
+        """Each ball's simulated positions at its recorded sample times (engine frame, m),
+        for the strike vector x; None if the engine gave up."""
+        return self.at_samples(self.segments(x), float(x[4]))
+
+    def at_samples(
+        self, trajectories: dict[str, list[tuple]] | None, t0: float
+    ) -> dict[str, np.ndarray] | None:
+        """The positions of `trajectories` (a shot struck at t0) at each recorded sample."""
+        if trajectories is None:
             return None
         return {k: positions(trajectories[k], tr.t - t0) for k, tr in self.rec.tracks.items()}
 
@@ -132,7 +146,10 @@ class Problem:
 
     def rmse_cm(self, x: np.ndarray) -> tuple[float, float]:
         """Cue-ball and all-balls RMSE (cm, recorded units) of strike x."""
-        sim = self.simulate(x)
+        return self.rmse_of(self.simulate(x))
+
+    def rmse_of(self, sim: dict[str, np.ndarray] | None) -> tuple[float, float]:
+        """Cue-ball and all-balls RMSE (cm, recorded units) of simulated sample positions."""
         sq = {}
         for k, tr in self.rec.tracks.items():
             d = np.full(tr.xy.shape, FAILED) if sim is None else (sim[k] - tr.xy) * SCALE
@@ -150,7 +167,7 @@ def positions(segments: list[tuple], t: np.ndarray) -> np.ndarray:
     return seg[k, 1:3] + seg[k, 3:5] * tau + 0.5 * seg[k, 5:7] * tau * tau
 
 
-def _on_cue_tip(a: float, b: float) -> tuple[float, float]:
+def on_cue_tip(a: float, b: float) -> tuple[float, float]:
     """The tip offset pulled back just inside the miscue limit when beyond it."""
     r = math.hypot(a, b)
     if r <= MISCUE_LIMIT:
@@ -229,7 +246,7 @@ def fit_shot(
             best_x, best_cost = x, cost
     rmse, rmse_all = problem.rmse_cm(best_x)
     heading, speed, a, b, t0 = (float(v) for v in best_x)
-    a, b = _on_cue_tip(a, b)
+    a, b = on_cue_tip(a, b)
     strike = {"heading": heading, "speed": speed, "elevation": 0.0, "a": a, "b": b, "t0": t0}
     seconds = time.process_time() - began
     return Fitted(rec.id, strike, rmse, rmse_all, guess_rmse, problem.simulations, seconds)

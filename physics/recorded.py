@@ -13,6 +13,7 @@ samples, before anything can have deflected it: its direction and speed, and whe
 
 from __future__ import annotations
 
+import gzip
 import json
 import math
 from dataclasses import dataclass
@@ -84,8 +85,11 @@ def parse(shot: dict) -> Recording:
 
 
 def load(path: str | Path) -> list[Recording]:
-    """Every shot of a recording file."""
-    return [parse(s) for s in json.loads(Path(path).read_text())]
+    """Every shot of a recording file (gzip-compressed when its name ends in .gz)."""
+    data = Path(path).read_bytes()
+    if Path(path).suffix == ".gz":
+        data = gzip.decompress(data)
+    return [parse(s) for s in json.loads(data)]
 
 
 @dataclass(frozen=True)

@@ -15,6 +15,7 @@ from aiohttp import web
 from server.game.actor import MatchContext, Matches, new_replica_id
 from server.game.challenges import Challenges
 from server.game.clock import running_clock
+from server.game.diagrams import DiagramWork
 from server.game.expiry import running_expiry
 from server.game.identity import ONLINE, Identity
 from server.game.leaderboard import Breaks
@@ -51,7 +52,8 @@ LIMITS: dict[str, tuple[float, int]] = {
     "claim": (0.5, 10),
 }
 
-#: How much lower than the server the background worker runs: claims and replays' shots,
+#: How much lower than the server the background worker runs: claims, replays' shots and the
+#: diagrams page's shot families and real shots (server/game/diagrams.py),
 #: which nobody at a table waits on, go to one worker of their own at this priority, so that
 #: a flood of them takes neither the matches' workers nor the CPU their shots want.
 BACKGROUND_NICE = 10
@@ -68,6 +70,7 @@ class Service:
     challenges: Challenges
     matches: Matches
     replay_shots: ReplayShotsCache
+    diagrams: DiagramWork
     #: Token buckets for what a client can make the server store or send (see LIMITS).
     limits: dict[str, RateLimiter] = field(
         default_factory=lambda: {kind: RateLimiter(*limit) for kind, limit in LIMITS.items()}
@@ -119,6 +122,7 @@ async def running_service(
         challenges=Challenges(storage, publisher, lobby),
         matches=Matches(context),
         replay_shots=ReplayShotsCache(storage, background),
+        diagrams=DiagramWork(background),
     )
     service.limits["register"] = RateLimiter(names_per_address / ONLINE, names_per_address)
     try:

@@ -186,6 +186,10 @@ class WorkerPool:
     async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
         return await self._run(replays.shots_pages, replay_id, record)
 
+    async def diagram(self, function: Callable[..., bytes], args: tuple[object, ...]) -> bytes:
+        """A diagrams page's answer, computed and encoded in the worker (server/game/diagrams)."""
+        return await self._run(function, *args)
+
     def close(self) -> None:
         for worker in self._all:
             worker.stop(wait=5)

@@ -21,6 +21,7 @@ from redis.exceptions import RedisError
 
 from physics.scene import unique_keys
 from server.game import commands, tables
+from server.game.diagrams import SHIPPED, real_shot_list
 from server.game.lobby import new_seed
 from server.game.profiles import bots, profile, rating_view
 from server.game.service import NAMES_PER_ADDRESS, SERVICE_KEY, Service, running_service
@@ -61,6 +62,7 @@ from server.protocol.models import (
     TableList,
     TableView,
 )
+from server.protocol.real_shots import RealShotFit, RealShotFitRequest, RealShotList
 from server.relay import JSON, Relay, bearer_token, client_address, media_type, relay_of
 from server.storage import StorageError
 
@@ -71,6 +73,7 @@ NAME = f"{{name:{ids.NAME_CORE}}}"
 PLAYER_ID = f"{{player:{ids.PLAYER_ID_CORE}}}"
 REPLAY_ID = f"{{replay:{ids.REPLAY_ID_CORE}}}"
 CHALLENGE_ID = f"{{challenge:{ids.CHALLENGE_ID_CORE}}}"
+REAL_SHOT_ID = f"{{shot:{ids.REAL_SHOT_ID_CORE}}}"
 
 M = TypeVar("M", bound=BaseModel)
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
@@ -365,6 +368,30 @@ async def claim_break(request: web.Request) -> web.Response:
     return answer(await service.breaks.claim(player, address, claim, data), 201)
 
 
+# ----- recorded real shots (the diagrams page) --------------------------------------------------
+async def real_shots(_: web.Request) -> web.Response:
+    return answer(real_shot_list())
+
+
+async def real_shot(request: web.Request) -> web.Response:
+    """A recorded shot with its shipped fit drawn (computed once, then kept)."""
+    asker = client_address(request, relay_of(request).trusted_proxies)
+    data = await service_of(request).diagrams.real_shot(
+        int(request.match_info["shot"]), SHIPPED, False, asker
+    )
+    return web.Response(body=data, content_type=JSON)
+
+
+async def refit_real_shot(request: web.Request) -> web.Response:
+    """A refit within its bound; the asker's worker time is checked before the body is read."""
+    asker = client_address(request, relay_of(request).trusted_proxies)
+    work = service_of(request).diagrams
+    work.budget.check(asker)
+    body = await parse(request, RealShotFitRequest)
+    data = await work.real_shot(int(request.match_info["shot"]), body, True, asker)
+    return web.Response(body=data, content_type=JSON)
+
+
 # ----- quick match ----------------------------------------------------------------------------
 async def quick(request: web.Request) -> web.Response:
     player = await player_of(request)
@@ -466,6 +493,16 @@ ROUTES: tuple[Route, ...] = (
           {201: ClaimVerdict}, ClaimRequest, max_body=MAX_RECORD_BODY,
           refusals=(ErrorCode.ILLEGAL_INPUT, ErrorCode.CLAIM_MISMATCH, ErrorCode.DUPLICATE,
                     ErrorCode.RATE_LIMITED, ErrorCode.FORBIDDEN)),
+    Route("GET", "/api/real-shots", real_shots,
+          "The recorded real-table shots and their shipped fits' figures", {200: RealShotList},
+          auth=False),
+    Route("GET", f"/api/real-shots/{REAL_SHOT_ID}", real_shot,
+          "A recorded shot's tracks with its shipped fit simulated", {200: RealShotFit},
+          auth=False, refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
+    Route("POST", f"/api/real-shots/{REAL_SHOT_ID}/fit", refit_real_shot,
+          "Refit a recorded shot's strike, within a bound of simulations and CPU",
+          {200: RealShotFit}, RealShotFitRequest, auth=False,
+          refusals=(ErrorCode.NOT_FOUND, ErrorCode.RATE_LIMITED)),
     Route("POST", "/api/quick", quick, "Ask for a quick match", {200: QuickStatus}, QuickRequest,
           refusals=(ErrorCode.RATE_LIMITED,)),
     Route("GET", "/api/quick", quick_status, "Where my quick match stands", {200: QuickStatus}),

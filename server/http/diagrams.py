@@ -1,17 +1,27 @@
 """The data behind the /diagrams page: physics curves computed from constants the user sets.
 
-Three curves, each a `GET` whose query is one pydantic model with every field bounded:
-- `/diagrams/throw`: object-ball throw against cut angle (Alciatore's friction fit), for a stun
-  and a rolling cue ball at one speed;
-- `/diagrams/cushion`: rebound angle and speed ratio against incidence off a straight cushion,
-  Mathavan 2010 and Han 2005, for four spins;
-- `/diagrams/motion`: one struck ball on an open table; the answer is the engine's trajectory
-  segments (in the wire form of docs/protocol.md) and events, which the page samples itself
-  with the same code that animates a shot.
+Each curve is a `GET /diagrams/{curve}` whose query is one pydantic model with every field
+bounded. Four are cheap and computed in the handler (the work per request is fixed by the
+grids below and the bounds, a few milliseconds at most: 46 throw evaluations, 144 or 72
+cushion impacts, one single-ball shot):
+- `throw`: object-ball throw against cut angle (Alciatore's friction fit), for a stun and a
+  rolling cue ball at one speed;
+- `cushion`: rebound angle and speed ratio against incidence off a straight cushion, Mathavan
+  2010 and Han 2005, for four spins;
+- `mathavan`: the figures of Mathavan et al. 2010 the engine reproduces: rebound speed and
+  angle against incidence for the paper's ball, cushion and topspins (physics.diagram_families);
+- `motion`: one struck ball on an open table; the answer is the engine's trajectory
+  segments (in the wire form of docs/protocol.md) and events.
 
-The work per request is fixed by the grids below and the bounds (a few milliseconds: at most 46
-throw evaluations, 144 cushion impacts, one single-ball shot), so it runs in the handler; an
-unknown field, a value out of bounds, NaN or infinity gets a 400 JSON error with a code and
+Three are families of whole shots on the carom table (physics.diagram_families, a few hundred
+ms each), computed in the background worker, kept, and charged to the asker's address
+(server/game/diagrams.py; 429 `rate_limited` once its worker time is spent):
+- `rebounds`: the cushion rebound families (stun, running, check, varying side, slow and hard
+  topspin), each shot's track;
+- `rebound_side`: the rebound angle of a rolling ball against its side spin at one speed;
+- `throws`: the throw families (stun, roll, varying roll, varying side), both balls' tracks.
+
+An unknown field, a value out of bounds, NaN or infinity gets a 400 JSON error with a code and
 computes nothing.
 """
 
@@ -25,10 +35,15 @@ from aiohttp import web
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 import physics
+from physics import diagram_families as families
 from physics.accuracy_data import rebound, throw_angle
 from physics.cue import MISCUE_LIMIT
 from physics.params import POOL
+from server.game.diagrams import encoded
+from server.game.service import SERVICE_KEY
+from server.protocol.errors import ServiceError
 from server.protocol.trajectories import wire_trajectory
+from server.relay import client_address, relay_of
 
 #: Cut angles (degrees) of the throw curves, and incidences of the cushion curves.
 CUTS = tuple(range(0, 91, 2))
@@ -79,6 +94,34 @@ class MotionQuery(Query):
     u_sp: float = bounded(0.002, 0.05, POOL.u_sp, "spin friction u_sp")
 
 
+class MathavanQuery(Query):
+    """The paper's snooker ball arriving at `speed` with topspins k = -1, 0, 1, 2."""
+
+    speed: float = bounded(0.2, 6.0, 1.0, "incoming speed V0 (m/s)")
+
+
+class ReboundsQuery(Query):
+    """Balls arriving at a cushion (physics.diagram_families)."""
+
+    speed: float = bounded(0.3, 5.0, 2.0, "arrival speed (m/s)")
+    side: float = bounded(0.0, 1.0, 0.5, "side of the running and check families (v/R)")
+    incidence: float = bounded(0.0, 80.0, 45.0, "incidence of the side family (degrees)")
+
+
+class ReboundSideQuery(Query):
+    """A rolling ball arriving at a cushion, its side spin varied."""
+
+    speed: float = bounded(0.3, 5.0, 2.0, "arrival speed (m/s)")
+    incidence: float = bounded(0.0, 80.0, 45.0, "incidence (degrees from the normal)")
+
+
+class ThrowsQuery(Query):
+    """The cue ball arriving at an object ball (physics.diagram_families)."""
+
+    speed: float = bounded(0.2, 5.0, 1.0, "cue-ball speed (m/s)")
+    cut: float = bounded(0.0, 70.0, 30.0, "cut of the varying roll and side families (degrees)")
+
+
 def throw_curves(q: ThrowQuery) -> dict:
     p = replace(POOL, throw_a=q.throw_a, throw_b=q.throw_b, throw_c=q.throw_c)
     return {
@@ -123,10 +166,14 @@ def motion_shot(q: MotionQuery) -> dict:
     }
 
 
+def mathavan_curves(q: MathavanQuery) -> dict:
+    return families.mathavan_figures(q.speed)
+
+
 def inputs() -> dict[str, dict[str, dict[str, Any]]]:
     """Each curve's sliders: {curve: {field: {min, max, default, label}}}, from the models."""
     out = {}
-    for name, (model, _) in CURVES.items():
+    for name, (model, _) in {**CURVES, **FAMILIES}.items():
         fields = model.model_json_schema()["properties"]
         out[name] = {
             key: {
@@ -144,6 +191,20 @@ CURVES = {
     "throw": (ThrowQuery, throw_curves),
     "cushion": (CushionQuery, cushion_curves),
     "motion": (MotionQuery, motion_shot),
+    "mathavan": (MathavanQuery, mathavan_curves),
+}
+
+#: The families of whole shots, computed in the background worker: their query and function.
+FAMILIES = {
+    "rebounds": (
+        ReboundsQuery,
+        lambda q: (families.cushion_families, (q.speed, q.side, q.incidence)),
+    ),
+    "rebound_side": (
+        ReboundSideQuery,
+        lambda q: (families.rebound_against_side, (q.speed, q.incidence)),
+    ),
+    "throws": (ThrowsQuery, lambda q: (families.throw_families, (q.speed, q.cut))),
 }
 
 
@@ -157,19 +218,43 @@ def json_error(status: type[web.HTTPError], code: str, message: str) -> web.HTTP
     )
 
 
-async def curve(request: web.Request) -> web.Response:
-    name = request.match_info["curve"]
-    if name not in CURVES:
-        raise json_error(web.HTTPNotFound, "not_found", f"no curve {name!r}: {', '.join(CURVES)}")
-    model, compute = CURVES[name]
+def _query(model: type[Query], request: web.Request) -> Any:
     try:
-        query = model.model_validate(dict(request.query))
-        return web.json_response(compute(query))
+        return model.model_validate(dict(request.query))
     except ValidationError as e:
         errors = "; ".join(f"{'.'.join(map(str, x['loc']))}: {x['msg']}" for x in e.errors())
         raise json_error(web.HTTPBadRequest, "bad_request", errors) from None
+
+
+async def curve(request: web.Request) -> web.Response:
+    name = request.match_info["curve"]
+    if name in FAMILIES:
+        return await family(request, name)
+    if name not in CURVES:
+        known = ", ".join([*CURVES, *FAMILIES])
+        raise json_error(web.HTTPNotFound, "not_found", f"no curve {name!r}: {known}")
+    model, compute = CURVES[name]
+    query = _query(model, request)
+    try:
+        return web.json_response(compute(query))
     except ValueError as e:
         raise json_error(web.HTTPBadRequest, "bad_request", str(e)) from None
+
+
+async def family(request: web.Request, name: str) -> web.Response:
+    """A family of shots from the background worker (server/game/diagrams.py)."""
+    model, call = FAMILIES[name]
+    query = _query(model, request)
+    service = request.app.get(SERVICE_KEY)
+    if service is None:
+        raise json_error(web.HTTPServiceUnavailable, "unavailable", "no game service here")
+    asker = client_address(request, relay_of(request).trusted_proxies)
+    key = f"{name}:{query.model_dump_json()}"
+    try:
+        data = await service.diagrams.answer(key, encoded, call(query), asker, keep=True)
+    except ServiceError as e:  # its worker time spent, or the worker busy
+        return web.json_response({"code": e.code.value, "reason": e.reason}, status=e.status)
+    return web.Response(body=data, content_type="application/json")
 
 
 async def sliders(_: web.Request) -> web.Response:

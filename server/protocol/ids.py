@@ -83,6 +83,8 @@ REPLAY_ID_PATTERN = _whole(REPLAY_ID_CORE)
 PLAYER_ID_CORE = r"p_[0-9a-f]{16}"
 PLAYER_ID_PATTERN = _whole(PLAYER_ID_CORE)
 CHALLENGE_ID_CORE = r"c_[0-9a-f]{16}"
+#: A recorded real shot's id (`/api/real-shots/{id}`): the recording's own number.
+REAL_SHOT_ID_CORE = r"[0-9]{1,6}"
 #: A client's shot id. It holds no `:`, so that the server's own inputs (`CLOCK_PREFIX`,
 #: `BOT_PREFIX`) live where no client can write.
 SHOT_ID_CORE = r"[A-Za-z0-9_-]{8,64}"

@@ -24,7 +24,9 @@ async def test_inputs_describe_every_field_with_its_bounds(client):
     response = await client.get("/diagrams/inputs")
     sliders = await response.json()
     assert sliders == INPUTS
-    assert set(sliders) == {"throw", "cushion", "motion"}
+    assert set(sliders) == {
+        "throw", "cushion", "mathavan", "motion", "rebounds", "rebound_side", "throws",
+    }  # fmt: skip
     for fields in sliders.values():
         for f in fields.values():
             assert f["min"] <= f["default"] <= f["max"] and f["label"]
@@ -90,3 +92,20 @@ async def test_unknown_curve_is_not_found(client):
     response = await client.get("/diagrams/spin")
     assert response.status == 404
     assert (await response.json())["code"] == "not_found"
+
+
+async def test_the_mathavan_figures_follow_the_speed_asked_for(client):
+    slow = await curve(client, "mathavan", speed=0.5)
+    fast = await curve(client, "mathavan", speed=2.0)
+    assert [c["k"] for c in slow["curves"]] == [-1, 0, 1, 2]
+    for a, b in zip(slow["curves"], fast["curves"], strict=True):
+        # Scale-free: the angles agree and the speeds scale with the speed asked for.
+        assert a["rebound_deg"] == pytest.approx(b["rebound_deg"], abs=0.05)
+        assert [4 * s for s in a["speed"]] == pytest.approx(b["speed"], rel=2e-3)
+
+
+async def test_a_family_needs_the_game_services_worker(client):
+    """Mounted without the game service (as here), a family of shots computes nothing."""
+    response = await client.get("/diagrams/rebounds")
+    assert response.status == 503
+    assert (await response.json())["code"] == "unavailable"

@@ -1,7 +1,11 @@
 // /diagrams: the engine's curves, recomputed by the server whenever a slider moves. The
 // sliders' ranges and defaults come from the server (GET /diagrams/inputs), which refuses
 // anything outside them; the motion curve is sampled here from the shot's trajectory segments.
+// The families of whole shots and the real shots are simulated by the server's background
+// worker, so their sliders ask on release, and the page loads them one after another.
 import uPlot from "uplot";
+import { drawRebounds, drawThrows } from "../diagrams/families.js";
+import { realShots } from "../diagrams/realshots.js";
 import { spinAt, velocityAt } from "../lib/trajectory.js";
 
 const $ = (id) => document.getElementById(id);
@@ -12,7 +16,8 @@ function width(el) {
   return Math.max(280, el.clientWidth - 8);
 }
 
-function sliders(box, spec, onChange) {
+/** Sliders for `spec`; onChange(values) on every move ("input") or on release ("change"). */
+function sliders(box, spec, onChange, event = "input") {
   const values = {};
   for (const [key, s] of Object.entries(spec)) {
     values[key] = s.default;
@@ -21,7 +26,7 @@ function sliders(box, spec, onChange) {
     Object.assign(input, { type: "range", min: s.min, max: s.max, step: (s.max - s.min) / 200, value: s.default, name: key });
     const out = document.createElement("output");
     out.textContent = String(Number(s.default.toPrecision(3)));
-    input.addEventListener("input", () => {
+    input.addEventListener(event, () => {
       values[key] = Number(input.value);
       out.textContent = String(Number(values[key].toPrecision(3)));
       onChange(values);
@@ -57,6 +62,44 @@ function chart(el, options) {
     if (!plot) plot = new uPlot({ width: width(el), height: 300, ...options }, data, el);
     else plot.setData(data);
   };
+}
+
+function familiesDiagram(curve, spec, draw) {
+  const update = fetcher(curve, (d) => draw($(`${curve}-families`), d));
+  return update(sliders($(`${curve}-sliders`), spec, update, "change"));
+}
+
+function reboundSideDiagram(spec) {
+  const draw = chart($("rebound_side-chart"), {
+    scales: { x: { time: false } },
+    axes: [{ label: "side spin (v/R; check < 0 < running)" }, { label: "angle from the normal (degrees)" }],
+    series: [
+      { label: "side" },
+      { label: "off the cushion", stroke: COLOURS[0], width: 2 },
+      { label: "once rolling", stroke: COLOURS[1], width: 2 },
+    ],
+  });
+  const update = fetcher("rebound_side", (d) => draw([d.side, d.rebound_deg, d.settled_deg]));
+  return update(sliders($("rebound_side-sliders"), spec, update, "change"));
+}
+
+function mathavanDiagram(spec) {
+  const series = () => [{ label: "incidence" }, ...[-1, 0, 1, 2].map((k, i) => ({ label: `k = ${k}`, stroke: COLOURS[i], width: 2 }))];
+  const speeds = chart($("mathavan-speed-chart"), {
+    scales: { x: { time: false } },
+    axes: [{ label: "incidence from the normal (degrees)" }, { label: "rebound speed (m/s)" }],
+    series: series(),
+  });
+  const angles = chart($("mathavan-angle-chart"), {
+    scales: { x: { time: false } },
+    axes: [{ label: "incidence from the normal (degrees)" }, { label: "rebound angle (degrees)" }],
+    series: series(),
+  });
+  const update = fetcher("mathavan", (d) => {
+    speeds([d.incidence_deg, ...d.curves.map((c) => c.speed)]);
+    angles([d.incidence_deg, ...d.curves.map((c) => c.rebound_deg)]);
+  });
+  update(sliders($("mathavan-sliders"), spec, update));
 }
 
 function throwDiagram(spec) {
@@ -130,7 +173,14 @@ async function main() {
   const spec = await (await fetch("/diagrams/inputs")).json();
   throwDiagram(spec.throw);
   cushionDiagram(spec.cushion);
+  mathavanDiagram(spec.mathavan);
   motionDiagram(spec.motion);
+  await familiesDiagram("rebounds", spec.rebounds, drawRebounds);
+  await reboundSideDiagram(spec.rebound_side);
+  await familiesDiagram("throws", spec.throws, drawThrows);
+  await realShots((message) => {
+    $("diagram-error").textContent = message;
+  });
 }
 
 main().catch((e) => {
