@@ -26,6 +26,14 @@ function row(...cells) {
   return tr;
 }
 
+/** A table body's one line saying it is empty. */
+function empty(body, text) {
+  const cell = el("td", null, "muted");
+  cell.colSpan = body.parentElement.querySelectorAll("th").length;
+  cell.textContent = text;
+  body.append(row(cell));
+}
+
 function td(...children) {
   const cell = el("td");
   cell.append(...children);
@@ -59,13 +67,21 @@ function showRatings(ratings) {
   const body = $("ratings").querySelector("tbody");
   body.replaceChildren();
   const played = GAMES.filter((g) => ratings[g]);
-  if (!played.length) body.append(row(td(el("span", "No rated matches yet.", "muted"))));
+  if (!played.length) empty(body, "No rated matches yet.");
   for (const game of played) {
     const r = ratings[game];
     const rating = td(String(Math.round(r.rating)));
     if (r.provisional) rating.append(" ", el("span", "provisional", "provisional"));
     body.append(row(GAME_NAMES[game], rating, `± ${Math.round(r.deviation)}`, r.games));
   }
+}
+
+/** The graph's rating axis: the ratings shown with a margin (uPlot's own range starts at 0). */
+function ratingRange(history) {
+  const ratings = history.map((p) => p.rating);
+  const [low, high] = [Math.min(...ratings), Math.max(...ratings)];
+  const margin = Math.max(50, (high - low) * 0.1);
+  return [Math.floor((low - margin) / 50) * 50, Math.ceil((high + margin) / 50) * 50];
 }
 
 /** The rating of each game over time: one series per game, drawn between its own matches. */
@@ -83,7 +99,7 @@ function showGraph(history) {
   const options = {
     width: Math.max(280, box.clientWidth - 8),
     height: 300,
-    scales: { x: { time: true } },
+    scales: { x: { time: true }, y: { range: ratingRange(history) } },
     axes: [axis, { ...axis, label: "rating" }],
     series: [{ label: "date" }, ...games.map((g) => ({ label: GAME_NAMES[g], stroke: COLOURS[g], width: 2, spanGaps: true, points: { show: true } }))],
   };
@@ -103,7 +119,7 @@ function replayLinks(replays) {
 function showMatches(matches) {
   const body = $("matches").querySelector("tbody");
   body.replaceChildren();
-  if (!matches.length) body.append(row(td(el("span", "No decided matches yet.", "muted"))));
+  if (!matches.length) empty(body, "No decided matches yet.");
   for (const m of matches) {
     const result = td(el("span", m.won ? "Won" : "Lost", m.won ? "won" : "lost"), ENDINGS[m.ended] ?? "");
     const change = m.rating_after - m.rating_before;
@@ -116,7 +132,7 @@ function showBreaks(breaks) {
   const body = $("breaks").querySelector("tbody");
   body.replaceChildren();
   const games = GAMES.filter((g) => breaks[g]);
-  if (!games.length) body.append(row(td(el("span", "No breaks on the leaderboards yet.", "muted"))));
+  if (!games.length) empty(body, "No breaks on the leaderboards yet.");
   for (const game of games) {
     const b = breaks[game];
     const link = el("a", "watch");
