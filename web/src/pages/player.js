@@ -84,6 +84,12 @@ function ratingRange(history) {
   return [Math.floor((low - margin) / 50) * 50, Math.ceil((high + margin) / 50) * 50];
 }
 
+/** The graph's time axis: the matches with a margin (a single match is not drawn over years). */
+function timeRange(xs) {
+  const margin = Math.max(60, (xs[xs.length - 1] - xs[0]) * 0.03);
+  return [xs[0] - margin, xs[xs.length - 1] + margin];
+}
+
 /** The rating of each game over time: one series per game, drawn between its own matches. */
 function showGraph(history) {
   const box = $("rating-graph");
@@ -99,7 +105,7 @@ function showGraph(history) {
   const options = {
     width: Math.max(280, box.clientWidth - 8),
     height: 300,
-    scales: { x: { time: true }, y: { range: ratingRange(history) } },
+    scales: { x: { time: true, range: timeRange(xs) }, y: { range: ratingRange(history) } },
     axes: [axis, { ...axis, label: "rating" }],
     series: [{ label: "date" }, ...games.map((g) => ({ label: GAME_NAMES[g], stroke: COLOURS[g], width: 2, spanGaps: true, points: { show: true } }))],
   };
