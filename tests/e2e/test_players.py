@@ -133,7 +133,7 @@ def test_the_lobby_says_who_is_online_and_what_each_does(open_page, server, cons
         timeout=30_000,
     )
     assert "waiting for a quick match" in online_entry(ada, bob_name).inner_text()
-    screenshot(ada, "players-online")
+    ada.screenshot(path=str(artefact("players-online")), full_page=True)
 
 
 def test_a_challenge_is_sent_seen_and_accepted_and_both_land_on_the_table(
@@ -270,4 +270,6 @@ def test_the_bot_levels_show_each_level_s_rating(open_page, server):
     unrated = page.locator("#games .card", has_text="Snooker").locator("option[value='bot:5']")
     assert unrated.inner_text() == "Strongest bot (level 5) · unrated"
     level.select_option("bot:2")
+    rating_words = page.locator("#games .card", has_text="Nine-ball").locator(".bot-rating")
+    assert rating_words.inner_text() == f"Rated {round(rating['rating'])}? in Nine-ball."
     screenshot(page, "players-bot-levels")

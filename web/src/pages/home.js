@@ -83,12 +83,25 @@ async function quickMatch(game, options, button) {
   };
 }
 
-/** The bot levels in words, each with its rating in `game` once /api/bots gives it. */
-function botLabel(id, bots, game) {
+/** The bots as /api/bots lists them, once it has answered. */
+let bots = null;
+
+/** A bot's rating in `game` in a few characters ("1662?" while provisional), or "unrated". */
+function botRating(id, game) {
   const rating = bots?.find((b) => b.id === id)?.ratings[game];
-  const words = BOT_LEVELS[id];
-  if (!bots) return words;
-  return rating ? `${words} · ${Math.round(rating.rating)}${rating.provisional ? "?" : ""}` : `${words} · unrated`;
+  return rating ? `${Math.round(rating.rating)}${rating.provisional ? "?" : ""}` : "unrated";
+}
+
+/** A bot level in words, with its rating in `game` once /api/bots has answered. */
+function botLabel(id, game) {
+  return bots ? `${BOT_LEVELS[id]} · ${botRating(id, game)}` : BOT_LEVELS[id];
+}
+
+/** Under a card's level select: the chosen bot's rating in the card's game, in words. */
+function showBotRating(select) {
+  const game = select.closest(".card").dataset.game;
+  const rating = botRating(select.value, game);
+  select.nextElementSibling.textContent = !bots ? "" : rating === "unrated" ? "Not rated yet in this game." : `Rated ${rating} in ${GAME_NAMES[game]}.`;
 }
 
 function gameCard(game) {
@@ -104,7 +117,9 @@ function gameCard(game) {
   quick.onclick = () => quickMatch(game, read(), quick).catch(error);
   const level = el("select", null, "bot-level");
   level.setAttribute("aria-label", `${GAME_NAMES[game]}: the bot's level`);
-  for (const id of Object.keys(BOT_LEVELS)) level.append(new Option(botLabel(id, null, game), id, false, id === DEFAULT_BOT));
+  for (const id of Object.keys(BOT_LEVELS)) level.append(new Option(botLabel(id, game), id, false, id === DEFAULT_BOT));
+  level.onchange = () => showBotRating(level);
+  const rating = el("span", null, "muted bot-rating");
   const bot = el("button", "Play the bot");
   bot.type = "button";
   bot.onclick = () =>
@@ -116,16 +131,17 @@ function gameCard(game) {
   practice.href = `/practice/${game}`;
   const board = el("a", "Leaderboard", "button");
   board.href = `/leaderboard/${game}`;
-  row.append(quick, level, bot, practice, board);
+  row.append(quick, level, rating, bot, practice, board);
   card.append(options, row);
   return card;
 }
 
 async function showBotRatings() {
-  const { bots } = await get("/api/bots");
+  bots = (await get("/api/bots")).bots;
   for (const select of document.querySelectorAll("#games select.bot-level")) {
     const game = select.closest(".card").dataset.game;
-    for (const option of select.options) option.textContent = botLabel(option.value, bots, game);
+    for (const option of select.options) option.textContent = botLabel(option.value, game);
+    showBotRating(select);
   }
 }
 
