@@ -271,5 +271,6 @@ def test_the_bot_levels_show_each_level_s_rating(open_page, server):
     assert unrated.inner_text() == "Strongest bot (level 5) · unrated"
     level.select_option("bot:2")
     rating_words = page.locator("#games .card", has_text="Nine-ball").locator(".bot-rating")
-    assert rating_words.inner_text() == f"Rated {round(rating['rating'])}? in Nine-ball."
+    expected = f"Rated {round(rating['rating'])} (provisional) in Nine-ball."
+    assert rating_words.inner_text() == expected
     screenshot(page, "players-bot-levels")

@@ -86,22 +86,26 @@ async function quickMatch(game, options, button) {
 /** The bots as /api/bots lists them, once it has answered. */
 let bots = null;
 
-/** A bot's rating in `game` in a few characters ("1662?" while provisional), or "unrated". */
+/** A bot's rating in `game` (null: unrated, or /api/bots has not answered). */
 function botRating(id, game) {
-  const rating = bots?.find((b) => b.id === id)?.ratings[game];
-  return rating ? `${Math.round(rating.rating)}${rating.provisional ? "?" : ""}` : "unrated";
+  return bots?.find((b) => b.id === id)?.ratings[game] ?? null;
 }
 
 /** A bot level in words, with its rating in `game` once /api/bots has answered. */
 function botLabel(id, game) {
-  return bots ? `${BOT_LEVELS[id]} · ${botRating(id, game)}` : BOT_LEVELS[id];
+  if (!bots) return BOT_LEVELS[id];
+  const rating = botRating(id, game);
+  // In a few characters, as lichess writes a provisional rating: "1662?".
+  return `${BOT_LEVELS[id]} · ${rating ? `${Math.round(rating.rating)}${rating.provisional ? "?" : ""}` : "unrated"}`;
 }
 
 /** Under a card's level select: the chosen bot's rating in the card's game, in words. */
 function showBotRating(select) {
   const game = select.closest(".card").dataset.game;
   const rating = botRating(select.value, game);
-  select.nextElementSibling.textContent = !bots ? "" : rating === "unrated" ? "Not rated yet in this game." : `Rated ${rating} in ${GAME_NAMES[game]}.`;
+  const provisional = rating?.provisional ? " (provisional)" : "";
+  const words = rating ? `Rated ${Math.round(rating.rating)}${provisional} in ${GAME_NAMES[game]}.` : "Not rated yet in this game.";
+  select.nextElementSibling.textContent = bots ? words : "";
 }
 
 function gameCard(game) {
