@@ -16,6 +16,7 @@ const pages = {
   replay: { title: "billiards: replay", body: "play-page" },
   leaderboard: { title: "billiards: leaderboard" },
   diagrams: { title: "billiards: physics diagrams", head: '<link rel="stylesheet" href="/static/uPlot.min.css">' },
+  player: { title: "billiards: player", head: '<link rel="stylesheet" href="/static/uPlot.min.css">' },
 };
 
 rmSync(out, { recursive: true, force: true });

@@ -23,7 +23,7 @@ from physics.scene import unique_keys
 from server.game import commands, tables
 from server.game.diagrams import SHIPPED, real_shot_list
 from server.game.lobby import new_seed
-from server.game.profiles import bots, profile, rating_view
+from server.game.profiles import bots, named, profile, rating_view
 from server.game.service import NAMES_PER_ADDRESS, SERVICE_KEY, Service, running_service
 from server.game.tables import GRACE, TableRecord
 from server.protocol import ids
@@ -211,6 +211,10 @@ async def player_ratings(request: web.Request) -> web.Response:
 
 async def list_bots(request: web.Request) -> web.Response:
     return answer(await bots(service_of(request).storage))
+
+
+async def player_named(request: web.Request) -> web.Response:
+    return answer(await named(service_of(request).storage, request.match_info["name"]))
 
 
 async def player_profile(request: web.Request) -> web.Response:
@@ -443,11 +447,15 @@ ROUTES: tuple[Route, ...] = (
     Route("POST", "/api/players", register, "A guest identity and its token", {201: PlayerToken},
           PlayerCreate, auth=False, refusals=(ErrorCode.NAME_TAKEN, ErrorCode.RATE_LIMITED)),
     Route("GET", "/api/me", me, "The player a token names", {200: PlayerInfo}),
+    Route("GET", f"/api/players/named/{NAME}", player_named,
+          "The player a display name stands for: its holder online, else its last holder",
+          {200: PlayerInfo}, auth=False, refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", f"/api/players/{PLAYER_ID}/ratings", player_ratings,
           "A player's rating in each game", {200: PlayerRatings}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", f"/api/players/{PLAYER_ID}/profile", player_profile,
-          "A player's ratings, recent matches and best breaks", {200: PlayerProfile}, auth=False,
+          "A player's ratings and their history, recent matches, best breaks, last seen",
+          {200: PlayerProfile}, auth=False,
           refusals=(ErrorCode.NOT_FOUND,)),
     Route("GET", "/api/bots", list_bots, "The bots' levels, names and ratings", {200: BotList},
           auth=False),

@@ -36,6 +36,7 @@ PAGES: dict[str, str] = {
     "/table/{id}": "play.html",
     "/replay/{id}": "replay.html",
     "/leaderboard/{game}": "leaderboard.html",
+    "/player/{name}": "player.html",
     "/diagrams": "diagrams.html",
 }
 

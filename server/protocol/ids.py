@@ -14,6 +14,7 @@ import secrets
 from enum import StrEnum
 
 from rules.racks import Game
+from rules.three_cushion import DEFAULT_TARGET
 
 #: The format version of channel messages; bumped when a client must change to read them.
 PROTOCOL = 1
@@ -159,9 +160,17 @@ QUICK_SHOT_CLOCK = 60
 #: Seconds per shot a table may set (0: no clock).
 SHOT_CLOCK_MIN, SHOT_CLOCK_MAX = 10, 300
 RACE_TO_MAX = 15
-#: Snooker's reds a table may be played with, and three-cushion's points to win (0: 15).
+#: Snooker's reds a table may be played with, and three-cushion's points to win (0: the
+#: rules' default, `THREE_CUSHION_TARGET`); the pages offer `THREE_CUSHION_TARGETS` (the seed
+#: project's races and a short race to 5), the API takes any target up to `TARGET_MAX`.
 SNOOKER_REDS = (6, 10, 15)
 TARGET_MAX = 100
+THREE_CUSHION_TARGET = DEFAULT_TARGET
+THREE_CUSHION_TARGETS = (5, 7, 10, 15, 25, 40)
+#: The shot clocks the pages offer when a table or challenge is made (s; 0: none).
+SHOT_CLOCKS = (0, 30, 60, 120)
+#: Rated matches whose ratings a profile's graph shows (the player's most recent, every game).
+PROFILE_HISTORY = 200
 #: Largest request body accepted (bytes): an intent is a few hundred.
 MAX_BODY = 16 * 1024
 #: Largest claim body (bytes): a long game's record.

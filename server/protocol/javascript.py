@@ -51,6 +51,11 @@ def module_text() -> str:
         _const("SHOT_CLOCK_MIN", ids.SHOT_CLOCK_MIN),
         _const("SHOT_CLOCK_MAX", ids.SHOT_CLOCK_MAX),
         _const("RACE_TO_MAX", ids.RACE_TO_MAX),
+        _const("QUICK_SHOT_CLOCK", ids.QUICK_SHOT_CLOCK),
+        _const("SHOT_CLOCKS", list(ids.SHOT_CLOCKS)),
+        _const("SNOOKER_REDS", list(ids.SNOOKER_REDS)),
+        _const("THREE_CUSHION_TARGET", ids.THREE_CUSHION_TARGET),
+        _const("THREE_CUSHION_TARGETS", list(ids.THREE_CUSHION_TARGETS)),
     ]
     return "\n".join(lines) + "\n"
 

@@ -11,7 +11,15 @@ from enum import StrEnum
 from typing import Annotated, Literal
 
 from annotated_types import Interval
-from pydantic import BaseModel, ConfigDict, Field, StringConstraints, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StringConstraints,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 from rules.inputs import Option, PlayerInput
 from rules.racks import Game as GameName
@@ -142,8 +150,20 @@ class ProfileMatch(BaseModel):
     replays: list[ReplayId] = Field(description="each finished rack's replay")
 
 
+class RatingPoint(BaseModel):
+    """A player's rating in a game after one rated match: a point of its rating graph."""
+
+    model_config = _ANSWER
+
+    game: GameName
+    at: float = Field(description="unix time of the match")
+    rating: float
+    deviation: float
+
+
 class PlayerProfile(BaseModel):
-    """Who a player is here: ratings, recent matches, best breaks."""
+    """Who a player is here: ratings and their history, recent matches, best breaks, when
+    last seen."""
 
     model_config = _ANSWER
 
@@ -151,6 +171,15 @@ class PlayerProfile(BaseModel):
     ratings: dict[str, RatingView] = Field(description="by game; a game never played is absent")
     matches: list[ProfileMatch] = Field(description="the most recent first")
     best_breaks: dict[str, BreakEntry] = Field(description="by game, under the player's name")
+    history: list[RatingPoint] = Field(
+        default=[],
+        description=f"the rating after each of the player's last {ids.PROFILE_HISTORY} rated"
+        " matches (of every game), oldest first",
+    )
+    online: bool = Field(default=False, description="the player holds its name now")
+    last_seen: float | None = Field(
+        default=None, description="unix time of the player's last sign of life, if known"
+    )
 
 
 class BotInfo(BaseModel):
@@ -191,6 +220,14 @@ class GameChoice(BaseModel):
     race_to: RaceTo = 1
     reds: Reds = Field(default=15, description="snooker only: 6, 10 or 15 reds")
     target: Target = Field(default=0, description="three-cushion only: points to win (0: 15)")
+
+    @field_validator("target")
+    @classmethod
+    def _default_target_is_zero(cls, target: int, info: ValidationInfo) -> int:
+        """Three-cushion's default target asked for by its number is the default: one game,
+        one quick-match pool (`target: 15` and no target are paired)."""
+        default = info.data.get("game") == "three_cushion" and target == ids.THREE_CUSHION_TARGET
+        return 0 if default else target
 
     @model_validator(mode="after")
     def _options_of_the_game(self) -> GameChoice:

@@ -31,6 +31,8 @@ What a backend must guarantee
 7. **Name claims.** `claim_name` gives a name key to one player until a time; it succeeds when
    the key is unclaimed, expired, or already the same player's (then it extends the claim).
    `online_players` counts unexpired claims, and `online` lists their players.
+   `name_holder` gives the player who made a key's latest successful claim and until when,
+   after the claim lapsed too (until another player claims the key): what a name stands for.
 8. **Heartbeats** are kept per table and seat, outside the versioned record: a heartbeat
    never conflicts with an input.
 9. **Ratings once per match, never lost.** `rate` stores a table's rating changes at most
@@ -75,6 +77,7 @@ What a backend must guarantee
    before `before` and who have no rating, earliest first, and returns their ids; a player
    with a rating is never deleted. So players are not kept for ever: a guest who never played
    a rated match is gone some time after it was last seen (server/game/expiry.py).
+   `last_seen` gives a player's last sign of life (None: no such player).
 """
 
 from __future__ import annotations
@@ -135,6 +138,15 @@ class Storage(ABC):
     async def online(self, now: float, limit: int) -> list[str]:
         """The ids of players whose name claim is unexpired at `now` (invariant 7), the most
         recently renewed first, at most `limit`."""
+
+    @abstractmethod
+    async def name_holder(self, key: str) -> tuple[str, float] | None:
+        """The player of a name key's latest successful claim and its end, lapsed or not
+        (invariant 7); None if the key was never claimed."""
+
+    @abstractmethod
+    async def last_seen(self, player_id: str) -> float | None:
+        """The player's last sign of life (invariant 15); None if there is no such player."""
 
     @abstractmethod
     async def expire_players(self, before: float, limit: int) -> list[str]:

@@ -9,8 +9,10 @@ replica sends it. Keys, all prefixed `game:`:
 - `h:{id}` the heartbeats of its seats; `listed` a sorted set of listed tables by creation;
   `deadlines` a sorted set of tables by shot-clock deadline; `expiry` a sorted set of every
   table by the time it may be dropped (`TableRecord.expires`);
-- `p:{id}` players and `seen` the unrated ones by their last sign of life (invariant 15);
-  `n:{key}` name claims (expiring) and `online` the claims by expiry;
+- `p:{id}` players and `seen` the unrated ones by their last sign of life (invariant 15),
+  `lastseen` a hash player -> its last sign of life (every player's, kept while it is);
+  `n:{key}` name claims (expiring), `online` the claims by expiry, and `holders` a hash
+  name key -> `<player> <until>` of its last claim (kept after the claim lapses);
 - `r:{player}` a hash game -> rating (its `games` count is the compare-and-set stamp),
   `rated` the set of tables whose result was rated;
 - `rp:{id}` replays; `bk` the set of break keys, `be` a hash key -> break, `lb:{game}` a
@@ -87,7 +89,8 @@ else redis.call('ZREM', KEYS[5], ARGV[5]) end
 return 1
 """
 
-# KEYS: name key, online set. ARGV: player, until (s), now (s), ttl (ms).
+# KEYS: name key, online set, seen, holders, lastseen. ARGV: player, until (s), now (s),
+# ttl (ms), the name key's field in holders.
 _CLAIM = """
 local holder = redis.call('GET', KEYS[1])
 if holder and holder ~= ARGV[1] then return 0 end
@@ -95,6 +98,8 @@ redis.call('SET', KEYS[1], ARGV[1], 'PX', ARGV[4])
 redis.call('ZADD', KEYS[2], ARGV[2], KEYS[1])
 redis.call('ZREMRANGEBYSCORE', KEYS[2], '-inf', '(' .. ARGV[3])
 redis.call('ZADD', KEYS[3], ARGV[3], ARGV[1])
+redis.call('HSET', KEYS[4], ARGV[5], ARGV[1] .. ' ' .. ARGV[2])
+redis.call('HSET', KEYS[5], ARGV[1], ARGV[3])
 return 1
 """
 
@@ -111,6 +116,7 @@ while #gone < limit do
     redis.call('ZREM', KEYS[1], id)
     if redis.call('EXISTS', ARGV[3] .. 'r:' .. id) == 0 then
       redis.call('DEL', ARGV[3] .. 'p:' .. id)
+      redis.call('HDEL', ARGV[3] .. 'lastseen', id)
       table.insert(gone, id)
     end
   end
@@ -255,6 +261,7 @@ class RedisStorage(Storage):
         async with self._redis.pipeline(transaction=True) as pipe:
             pipe.set(f"{P}p:{player.id}", dump(player))
             pipe.zadd(f"{P}seen", {player.id: now})
+            pipe.hset(f"{P}lastseen", player.id, now)
             await pipe.execute()
 
     async def get_player(self, player_id: str) -> PlayerInfo | None:
@@ -263,8 +270,21 @@ class RedisStorage(Storage):
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
         ttl_ms = max(1, int((until - now) * 1000))
-        keys = [f"{P}n:{key}", f"{P}online", f"{P}seen"]
-        return bool(await self._claim(keys=keys, args=[player_id, until, now, ttl_ms]))
+        keys = [f"{P}n:{key}", f"{P}online", f"{P}seen", f"{P}holders", f"{P}lastseen"]
+        return bool(await self._claim(keys=keys, args=[player_id, until, now, ttl_ms, key]))
+
+    async def name_holder(self, key: str) -> tuple[str, float] | None:
+        value = await self._redis.hget(f"{P}holders", key)
+        if not value:
+            return None
+        player, until = value.split(" ")
+        return player, float(until)
+
+    async def last_seen(self, player_id: str) -> float | None:
+        if not await self._redis.exists(f"{P}p:{player_id}"):
+            return None
+        seen = await self._redis.hget(f"{P}lastseen", player_id)
+        return float(seen) if seen is not None else None
 
     async def expire_players(self, before: float, limit: int) -> list[str]:
         gone = await self._expire_players(keys=[f"{P}seen"], args=[repr(before), limit, P])

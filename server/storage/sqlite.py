@@ -218,6 +218,14 @@ class SqliteStorage(Storage):
             await db.execute("UPDATE players SET seen = ? WHERE id = ?", (now, player_id))
         return True
 
+    async def name_holder(self, key: str) -> tuple[str, float] | None:
+        row = await self._one("SELECT player, until FROM names WHERE key = ?", key)
+        return (row[0], row[1]) if row else None
+
+    async def last_seen(self, player_id: str) -> float | None:
+        row = await self._one("SELECT seen FROM players WHERE id = ?", player_id)
+        return row[0] if row else None
+
     async def expire_players(self, before: float, limit: int) -> list[str]:
         async with self._transaction() as db:
             rows = await db.execute_fetchall(

@@ -57,19 +57,23 @@ def test_practice_table_draws_in_its_colours(open_page, game, cloth):
 
 @pytest.fixture(scope="module")
 def tables(browser, server) -> dict[str, str]:
-    """A snooker match (Ada and Bob seated, Ada to break) and a practice table with two shots
-    played, to open the table and replay pages on: {"match": id, "played": id}."""
+    """A snooker match (Ada and Bob seated, Ada to break), a practice table with two shots
+    played and a nine-ball match Bob resigned, to open the table, replay and profile pages on:
+    {"match": id, "played": id, "ada": Ada's name}."""
     contexts = [browser.new_context() for _ in range(2)]
     try:
         ada, bob = (Api(c.new_page(), server) for c in contexts)
-        ada.sign_in(unique_name("Ta"))
+        ada_name = ada.sign_in(unique_name("Ta"))["name"]
         bob.sign_in(unique_name("Tb"))
+        resigned = ada.call("POST", "/api/tables", {"game": "nineball"})["id"]
+        bob.call("POST", f"/api/tables/{resigned}/join")
+        bob.call("POST", f"/api/tables/{resigned}/resign")
         played = ada.practice("nineball")
         for _ in range(2):
             ada.play_picked(played)
         match = ada.call("POST", "/api/tables", {"game": "snooker"})["id"]
         bob.call("POST", f"/api/tables/{match}/join")
-        return {"match": match, "played": played}
+        return {"match": match, "played": played, "ada": ada_name}
     finally:
         for c in contexts:
             c.close()
@@ -82,6 +86,7 @@ PAGES = {
     "/table/{match}": None,
     "/replay/{played}": "#shots li",
     "/leaderboard/nineball": "#board-status:not(:empty)",
+    "/player/{ada}": "#rating-graph canvas",
     "/diagrams": "#motion-chart canvas",
 }
 

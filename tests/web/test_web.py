@@ -14,7 +14,7 @@ from server.http.pages import GAMES, mount_web, table_geometry
 @pytest.fixture
 def dist(tmp_path, monkeypatch):
     """A stand-in build: one HTML file per page kind, a script and its .gz."""
-    for name in ("home", "play", "replay", "leaderboard", "diagrams"):
+    for name in ("home", "play", "replay", "leaderboard", "diagrams", "player"):
         (tmp_path / f"{name}.html").write_text(f"<!doctype html><title>{name}</title>")
     (tmp_path / "play.js").write_text("export const x = 1;")
     (tmp_path / "play.js.gz").write_bytes(gzip.compress(b"export const x = 1;"))
@@ -37,6 +37,7 @@ async def client(serve):
         ("/replay/abc", "replay"),
         ("/leaderboard/three_cushion", "leaderboard"),
         ("/diagrams", "diagrams"),
+        ("/player/Ada Lovelace", "player"),
     ],
 )
 async def test_each_page_url_answers_its_page(client, dist, path, page):

@@ -1,12 +1,18 @@
-// The home page and lobby: a name, then per game quick match, a game against the bot, practice;
-// a table with options (a private one gives a link to send); the lobby's open tables and games in
-// progress, live from the `public-lobby` channel.
+// The home page and lobby: a name, then per game its options, quick match, a game against the
+// bot at a level (named, with the bot's rating in that game), practice; a table with options (a
+// private one gives a link to send); the lobby's open tables and games in progress and who is
+// online, live from the `public-lobby` channel; direct challenges, live from the player's own
+// channel (lobby/challenges.js).
 import { call, currentPlayer, get, post, register, storedPlayer } from "../net/api.js";
 import { ensurePlayer, showWho } from "../net/identity.js";
 import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
-import { LOBBY, playerChannel, QUICK_POLL_MS } from "../net/protocol.js";
+import { GAME_OPTIONS, optionControls, optionWords, TABLE_OPTIONS } from "../lib/options.js";
+import { playerLink } from "../lib/players.js";
+import { LOBBY, playerChannel, QUICK_POLL_MS, QUICK_SHOT_CLOCK } from "../net/protocol.js";
 import { BOT_LEVELS, DEFAULT_BOT } from "../play/words.js";
+import { Challenges } from "../lobby/challenges.js";
+import { challengeForm, showOnline } from "../lobby/online.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -33,59 +39,142 @@ function go(tableId) {
   location.href = `/table/${tableId}`;
 }
 
-let waiting = null;
+/** What the page knows of its player once it has one: its channel's messages go to `listeners`
+ *  (challenges, a quick match waiting). */
+const session = { me: null, challenges: null, listeners: [] };
 
-async function quickMatch(game, button) {
-  error(null);
+function startSession(me) {
+  if (session.me?.id === me.id) return;
+  if (session.me) return location.reload(); // another name now: start again as it
+  session.me = me;
+  session.challenges = new Challenges($("challenges"), me, go, error);
+  session.listeners.push((m) => session.challenges.onMessage(m));
+  new Subscription(playerChannel(me.id), { onMessage: (m) => session.listeners.forEach((f) => f(m)) });
+  showNotificationOffer();
+}
+
+async function player() {
   const me = await ensurePlayer();
+  startSession(me);
+  return me;
+}
+
+let waiting = false;
+
+async function quickMatch(game, options, button) {
+  error(null);
+  await player();
   if (waiting) return;
-  const status = await post("/api/quick", { game });
+  const status = await post("/api/quick", { game, ...options });
   if (status.status === "paired") return go(status.table);
+  waiting = true;
   button.textContent = "Waiting for an opponent... (cancel)";
-  waiting = new Subscription(playerChannel(me.id), {
-    onMessage: (m) => m.kind === "paired" && go(m.table),
-  });
-  // The server keeps a request only while it is polled (a closed page is never paired); the
-  // poll also finds a pairing whose message was missed.
-  setInterval(async () => {
+  // The server keeps a request only while it is polled (a closed page is never paired). A
+  // `paired` message (the channel may replay old ones) is checked against the server's answer.
+  const poll = async () => {
     const now = await get("/api/quick").catch(() => null);
     if (now?.status === "paired") go(now.table);
-  }, QUICK_POLL_MS);
+  };
+  session.listeners.push((m) => m.kind === "paired" && poll());
+  setInterval(poll, QUICK_POLL_MS);
   button.onclick = async () => {
     await call("DELETE", "/api/quick").catch(() => {});
     location.reload();
   };
 }
 
-function gameCards() {
-  const grid = $("games");
-  for (const game of GAMES) {
-    const card = el("div", null, "card");
-    card.append(el("h2", GAME_NAMES[game]));
-    const row = el("div", null, "row");
-    const quick = el("button", "Quick match", "primary");
-    quick.type = "button";
-    quick.onclick = () => quickMatch(game, quick).catch(error);
-    const level = el("select", null, "bot-level");
-    level.setAttribute("aria-label", `${GAME_NAMES[game]}: the bot's level`);
-    for (const [value, words] of Object.entries(BOT_LEVELS)) level.append(new Option(words, value, false, value === DEFAULT_BOT));
-    const bot = el("button", "Play the bot");
-    bot.type = "button";
-    bot.onclick = () =>
-      ensurePlayer()
-        .then(() => post("/api/tables", { game, mode: "bot", bot: level.value }))
-        .then((v) => go(v.id))
-        .catch(error);
-    const practice = el("a", "Practice", "button");
-    practice.href = `/practice/${game}`;
-    const board = el("a", "Leaderboard", "button");
-    board.href = `/leaderboard/${game}`;
-    row.append(quick, level, bot, practice, board);
-    card.append(row);
-    grid.append(card);
+/** The bots as /api/bots lists them, once it has answered. */
+let bots = null;
+
+/** A bot's rating in `game` (null: unrated, or /api/bots has not answered). */
+function botRating(id, game) {
+  return bots?.find((b) => b.id === id)?.ratings[game] ?? null;
+}
+
+/** A bot level in words, with its rating in `game` once /api/bots has answered. */
+function botLabel(id, game) {
+  if (!bots) return BOT_LEVELS[id];
+  const rating = botRating(id, game);
+  // In a few characters, as lichess writes a provisional rating: "1662?".
+  return `${BOT_LEVELS[id]} · ${rating ? `${Math.round(rating.rating)}${rating.provisional ? "?" : ""}` : "unrated"}`;
+}
+
+/** Under a card's level select: the chosen bot's rating in the card's game, in words. */
+function showBotRating(select) {
+  const game = select.closest(".card").dataset.game;
+  const rating = botRating(select.value, game);
+  const provisional = rating?.provisional ? " (provisional)" : "";
+  const words = rating ? `Rated ${Math.round(rating.rating)}${provisional} in ${GAME_NAMES[game]}.` : "Not rated yet in this game.";
+  select.nextElementSibling.textContent = bots ? words : "";
+}
+
+function gameCard(game) {
+  const card = el("div", null, "card");
+  card.dataset.game = game;
+  card.append(el("h2", GAME_NAMES[game]));
+  const options = el("div", null, "row options");
+  const read = optionControls(options, game, GAME_OPTIONS);
+  const row = el("div", null, "row");
+  const quick = el("button", "Quick match", "primary");
+  quick.type = "button";
+  quick.title = `Paired with the next player asking for the same options; ${QUICK_SHOT_CLOCK} s shot clock`;
+  quick.onclick = () => quickMatch(game, read(), quick).catch(error);
+  const level = el("select", null, "bot-level");
+  level.setAttribute("aria-label", `${GAME_NAMES[game]}: the bot's level`);
+  for (const id of Object.keys(BOT_LEVELS)) level.append(new Option(botLabel(id, game), id, false, id === DEFAULT_BOT));
+  level.onchange = () => showBotRating(level);
+  const rating = el("span", null, "muted bot-rating");
+  const bot = el("button", "Play the bot");
+  bot.type = "button";
+  bot.onclick = () =>
+    player()
+      .then(() => post("/api/tables", { game, mode: "bot", bot: level.value, ...read() }))
+      .then((v) => go(v.id))
+      .catch(error);
+  const practice = el("a", "Practice", "button");
+  practice.href = `/practice/${game}`;
+  const board = el("a", "Leaderboard", "button");
+  board.href = `/leaderboard/${game}`;
+  row.append(quick, level, rating, bot, practice, board);
+  card.append(options, row);
+  return card;
+}
+
+async function showBotRatings() {
+  bots = (await get("/api/bots")).bots;
+  for (const select of document.querySelectorAll("#games select.bot-level")) {
+    const game = select.closest(".card").dataset.game;
+    for (const option of select.options) option.textContent = botLabel(option.value, game);
+    showBotRating(select);
   }
+}
+
+function createForm() {
   const select = $("create-game");
   for (const game of GAMES) select.append(new Option(GAME_NAMES[game], game));
+  let read = optionControls($("create-options"), select.value, TABLE_OPTIONS);
+  select.addEventListener("change", () => (read = optionControls($("create-options"), select.value, TABLE_OPTIONS)));
+  $("create-form").addEventListener("submit", async (e) => {
+    e.preventDefault();
+    error(null);
+    try {
+      await player();
+      const view = await post("/api/tables", { game: select.value, ...read(), private: $("private").checked });
+      go(view.id);
+    } catch (err) {
+      error(err);
+    }
+  });
+}
+
+function names(t) {
+  const cell = el("td");
+  if (t.mode === "practice") {
+    cell.append(t.seats[0] ? playerLink(t.seats[0]) : "", " (practice)");
+    return cell;
+  }
+  t.seats.forEach((s, i) => cell.append(i ? " vs " : "", s ? playerLink(s) : "(free seat)"));
+  return cell;
 }
 
 function showTables(tables, online) {
@@ -95,8 +184,8 @@ function showTables(tables, online) {
   if (!tables.length) body.append(Object.assign(el("tr"), { innerHTML: '<td class="muted">No open tables right now.</td>' }));
   for (const t of tables) {
     const row = el("tr");
-    const names = t.mode === "practice" ? `${t.seats[0]?.name ?? ""} (practice)` : t.seats.map((s) => s?.name ?? "(free seat)").join(" vs ");
-    row.append(el("td", GAME_NAMES[t.game] ?? t.game), el("td", names), el("td", t.status === "open" ? "open" : `in progress, ${t.spectators} watching`));
+    const game = [GAME_NAMES[t.game] ?? t.game, optionWords(t.game, t.options)].filter(Boolean).join(", ");
+    row.append(el("td", game), names(t), el("td", t.status === "open" ? "open" : `in progress, ${t.spectators} watching`));
     const cell = el("td");
     const link = el("a", t.status === "open" ? "Join" : "Watch", "button");
     link.href = `/table/${t.id}`;
@@ -106,8 +195,27 @@ function showTables(tables, online) {
   }
 }
 
+function showLobby(m) {
+  showTables(m.tables, m.players_online);
+  const challenge = (target) =>
+    player()
+      .then(() => challengeForm($("challenge-form"), target, (body) => session.challenges.send(body), error))
+      .catch(error);
+  showOnline($("people"), m.online, session.me, challenge);
+}
+
+/** Offer browser notifications of challenges while the player has not decided. */
+function showNotificationOffer() {
+  const button = $("notify");
+  if (!("Notification" in window) || Notification.permission !== "default") return;
+  button.hidden = false;
+  button.onclick = () => Notification.requestPermission().finally(() => (button.hidden = true));
+}
+
 async function main() {
-  gameCards();
+  for (const game of GAMES) $("games").append(gameCard(game));
+  createForm();
+  showBotRatings().catch(error);
   const stored = storedPlayer();
   if (stored) $("name").value = stored.name;
   ensurePlayerQuietly();
@@ -115,39 +223,25 @@ async function main() {
     e.preventDefault();
     $("name-error").textContent = "";
     try {
-      showWho(await register($("name").value.trim()));
+      const me = await register($("name").value.trim());
+      showWho(me);
+      startSession(me);
     } catch (err) {
       $("name-error").textContent = nameRefusal(err);
-    }
-  });
-  $("create-form").addEventListener("submit", async (e) => {
-    e.preventDefault();
-    error(null);
-    try {
-      await ensurePlayer();
-      const view = await post("/api/tables", {
-        game: $("create-game").value,
-        race_to: Number($("race").value),
-        shot_clock: Number($("clock").value),
-        private: $("private").checked,
-      });
-      go(view.id);
-    } catch (err) {
-      error(err);
     }
   });
   get("/api/tables")
     .then((list) => showTables(list.tables, null))
     .catch(error);
-  new Subscription(LOBBY, {
-    onMessage: (m) => m.kind === "lobby" && showTables(m.tables, m.players_online),
-  });
+  new Subscription(LOBBY, { onMessage: (m) => m.kind === "lobby" && showLobby(m) });
 }
 
 async function ensurePlayerQuietly() {
   const me = await currentPlayer().catch(() => null);
   showWho(me);
-  if (me) $("name").value = me.name;
+  if (!me) return;
+  $("name").value = me.name;
+  startSession(me);
 }
 
 main().catch(error);

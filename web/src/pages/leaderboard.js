@@ -1,10 +1,12 @@
 // /leaderboard/{game}: the game's highest breaks (GET /api/leaderboard/{game}, kept live from
-// the `public-leaderboard` channel), each opening its replay; and a form to claim a break from
-// a game record, which the server replays and checks before it enters. A claim is made as a
-// player (its token): the stored one if it has the name typed, else a new guest of that name.
+// the `public-leaderboard` channel), each naming its player (a link to the profile) and opening
+// its replay; and a form to claim a break from a game record, which the server replays and
+// checks before it enters. A claim is made as a player (its token): the stored one if it has
+// the name typed, else a new guest of that name.
 import { currentPlayer, get, post, register, storedPlayer } from "../net/api.js";
 import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
+import { playerLink } from "../lib/players.js";
 
 const $ = (id) => document.getElementById(id);
 const SOURCES = { match: "played here: a match", practice: "played here: practice", claim: "submitted record, replayed here" };
@@ -27,7 +29,9 @@ function show(breaks) {
       a.textContent = "Watch";
       replay.append(a);
     }
-    row.append(cell(String(i + 1)), cell(b.name), cell(String(b.score)), cell(SOURCES[b.source] ?? b.source), replay);
+    const name = cell("");
+    name.append(playerLink({ id: b.player ?? "", name: b.name }));
+    row.append(cell(String(i + 1)), name, cell(String(b.score)), cell(SOURCES[b.source] ?? b.source), replay);
     body.append(row);
   });
   const n = breaks.length;
