@@ -23,11 +23,21 @@ from physics.scene import unique_keys
 from server.game import commands, tables
 from server.game.lobby import new_seed
 from server.game.profiles import bots, profile, rating_view
+from server.game.refereeing import (
+    BAD_POSITION,
+    RuleError,
+    Setup,
+    checked_position,
+    rack_setup,
+    rule_code,
+    share_code,
+    shared,
+)
 from server.game.service import NAMES_PER_ADDRESS, SERVICE_KEY, Service, running_service
 from server.game.tables import GRACE, TableRecord
 from server.protocol import ids
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import MAX_BODY, MAX_RECORD_BODY, new_table_id
+from server.protocol.ids import MAX_BODY, MAX_RECORD_BODY, new_table_id, practice_url
 from server.protocol.models import (
     AimMessage,
     AimRequest,
@@ -51,12 +61,15 @@ from server.protocol.models import (
     PlayerProfile,
     PlayerRatings,
     PlayerToken,
+    PositionShare,
     PresenceMessage,
     QuickMessageRequest,
     QuickRequest,
     QuickStatus,
+    RackRequest,
     ReplayShots,
     ReplayView,
+    SharedPosition,
     TableCreate,
     TableList,
     TableView,
@@ -71,6 +84,7 @@ NAME = f"{{name:{ids.NAME_CORE}}}"
 PLAYER_ID = f"{{player:{ids.PLAYER_ID_CORE}}}"
 REPLAY_ID = f"{{replay:{ids.REPLAY_ID_CORE}}}"
 CHALLENGE_ID = f"{{challenge:{ids.CHALLENGE_ID_CORE}}}"
+POSITION_CODE = f"{{code:{ids.POSITION_CODE_CORE}}}"
 
 M = TypeVar("M", bound=BaseModel)
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
@@ -275,6 +289,58 @@ async def rematch(request: web.Request) -> web.Response:
     return await _seat_command(request, commands.Rematch)
 
 
+async def rack(request: web.Request) -> web.Response:
+    """Practice: the next rack, from a set-up position or the game's own rack."""
+    player = await player_of(request)
+    body = await parse(request, RackRequest)
+    after = await _ask(request, commands.Rerack(player, body.position))
+    assert isinstance(after, TableRecord)
+    return answer(await full_view(service_of(request), after))
+
+
+async def retake(request: web.Request) -> web.Response:
+    return await _seat_command(request, commands.Retake)
+
+
+# ----- shared positions -------------------------------------------------------------------------
+def _shared(setup: Setup) -> SharedPosition:
+    code = share_code(setup)
+    assert setup.position is not None
+    return SharedPosition(
+        code=code,
+        url=practice_url(setup.game, code),
+        game=setup.game,
+        size=setup.size,
+        reds=setup.reds,
+        position=setup.position,
+    )
+
+
+async def share_position(request: web.Request) -> web.Response:
+    """A position's share link, once it is checked as a practice table would check it."""
+    body = await parse(request, PositionShare)
+    options = {"reds": body.reds, "size": body.size}
+    try:
+        position = checked_position(body.game, body.position, **options)
+        setup = rack_setup(body.game, 0, 0, position=position, **options)
+    except RuleError as error:
+        raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
+    except ValueError as error:
+        raise ServiceError(ErrorCode.BAD_REQUEST, str(error)) from None
+    return answer(_shared(setup))
+
+
+async def open_position(request: web.Request) -> web.Response:
+    """What a shared position's code sets up, checked (a link may come from anyone)."""
+    try:
+        setup = shared(request.match_info["code"])
+    except RuleError as error:
+        bad = rule_code(error) == BAD_POSITION
+        code = ErrorCode.BAD_POSITION if bad else ErrorCode.BAD_REQUEST
+        raise ServiceError(code, error.reason) from None
+    return answer(_shared(setup))
+
+
 async def intent(request: web.Request) -> web.Response:
     player = await player_of(request)
     body = await parse(request, Intent)
@@ -444,6 +510,16 @@ ROUTES: tuple[Route, ...] = (
           {200: TableView}, refusals=_TABLE_REFUSALS),
     Route("POST", f"{_T}/rematch", rematch, "Offer or accept a rematch", {200: TableView},
           refusals=_TABLE_REFUSALS),
+    Route("POST", f"{_T}/rack", rack, "Practice: re-rack, or set up a position",
+          {200: TableView}, RackRequest, refusals=(*_TABLE_REFUSALS, ErrorCode.BAD_POSITION)),
+    Route("POST", f"{_T}/retake", retake, "Practice: take the last shot again",
+          {200: TableView}, refusals=_TABLE_REFUSALS),
+    Route("POST", "/api/positions", share_position, "A set-up position's share link",
+          {200: SharedPosition}, PositionShare, auth=False,
+          refusals=(ErrorCode.BAD_POSITION, ErrorCode.BAD_REQUEST)),
+    Route("GET", f"/api/positions/{POSITION_CODE}", open_position,
+          "What a shared position sets up", {200: SharedPosition}, auth=False,
+          refusals=(ErrorCode.BAD_POSITION, ErrorCode.BAD_REQUEST)),
     Route("POST", f"{_T}/heartbeat", heartbeat, "I am still here", {200: PresenceMessage},
           refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},

@@ -51,6 +51,10 @@ def module_text() -> str:
         _const("SHOT_CLOCK_MIN", ids.SHOT_CLOCK_MIN),
         _const("SHOT_CLOCK_MAX", ids.SHOT_CLOCK_MAX),
         _const("RACE_TO_MAX", ids.RACE_TO_MAX),
+        _const("TABLE_SIZES", list(ids.TABLE_SIZES)),
+        _const("TABLE_SIZE", ids.TABLE_SIZE),
+        _const("SIZED_GAMES", list(ids.SIZED_GAMES)),
+        _const("POSITION_PARAM", ids.POSITION_PARAM),
     ]
     return "\n".join(lines) + "\n"
 

@@ -1,0 +1,97 @@
+"""Set-up positions: a rack of the player's own making (practice), checked and started.
+
+A position names where some of a game's own balls lie. It is a valid start when every ball is
+one of the game's (snooker's reds as the setup counts them), lies wholly on the bed and outside
+every pocket's capture circle (`rules.spots.on_table`), no two are closer than 2R (plus the
+spots' CLEARANCE), and the balls the game cannot end without are there (`REQUIRED`: the 9, the
+8, the black, all three carom balls). Coordinates are kept in the steps a placed cue ball is
+canonical in (0.1 mm, `rules.inputs.PLACE_STEPS`), so that a share link carries a position
+exactly and a record replays it bit for bit.
+
+A set-up position is never a break: its first shot is refereed as an ordinary shot of a rack
+under way (`SET_UP_SHOTS`: no break rules, no nine-ball push-out), with ball in hand (the
+game's region at the break: pool's anywhere, snooker's D) when the cue ball is left off.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+from rules.codes import Refusal, RuleError
+from rules.inputs import PLACE_STEPS, quantise
+from rules.racks import REDS_FULL, Game, rack, table
+from rules.spots import STANDARD_SIZE, Point, is_free, on_table
+from rules.state import Region, State
+
+#: The balls a position of each game must hold: the game cannot end (or, in three-cushion,
+#: be played) without them.
+REQUIRED: dict[Game, tuple[str, ...]] = {
+    Game.NINEBALL: ("9",),
+    Game.EIGHTBALL: ("8",),
+    Game.SNOOKER: ("black",),
+    Game.THREE_CUSHION: ("white", "yellow", "red"),
+}
+#: The ball in hand of a position without its cue ball.
+IN_HAND: dict[Game, Region] = {
+    Game.NINEBALL: "anywhere",
+    Game.EIGHTBALL: "anywhere",
+    Game.SNOOKER: "D",
+}
+#: Strokes a set-up position counts as played: past the break (0) and nine-ball's push-out
+#: shot (1), so the referees judge its first shot as any other.
+SET_UP_SHOTS = 2
+#: Snooker's colours from the lowest value: the ball on when no red is left.
+COLOURS = ("yellow", "green", "brown", "blue", "pink", "black")
+
+
+def ball_names(game: Game, reds: int = REDS_FULL) -> tuple[str, ...]:
+    """Every ball of `game` (snooker with `reds` reds), sorted: what a position may hold."""
+    return tuple(sorted(rack(game, 0, reds=reds)))
+
+
+def canonical(balls: Mapping[str, Point]) -> dict[str, Point]:
+    """The position with its coordinates in PLACE_STEPS, sorted by ball name."""
+    return {
+        b: (quantise(p[0], PLACE_STEPS), quantise(p[1], PLACE_STEPS))
+        for b, p in sorted(balls.items())
+    }
+
+
+def _refuse(why: str) -> RuleError:
+    return RuleError(Refusal.BAD_POSITION, why)
+
+
+def check_position(
+    game: Game, balls: Mapping[str, Point], size: int = STANDARD_SIZE, reds: int = REDS_FULL
+) -> dict[str, Point]:
+    """The canonical position (see `canonical`); RuleError (BAD_POSITION) naming the first
+    ball that cannot start there, or the ball missing, when it is not a valid start."""
+    known = ball_names(game, reds)
+    on = table(game, size)
+    position = canonical(balls)
+    for ball, (x, y) in position.items():
+        if ball not in known:
+            raise _refuse(f"{ball!r} is not a ball of {game.value} (its balls: {', '.join(known)})")
+        if not (math.isfinite(x) and math.isfinite(y)) or not on_table((x, y), on):
+            raise _refuse(f"the {ball} is not on the table bed (or is in a pocket)")
+    for ball, p in position.items():
+        if not is_free(p, position, on.R, ignore=ball):
+            raise _refuse(f"the {ball} overlaps another ball")
+    missing = [b for b in REQUIRED[game] if b not in position]
+    if missing:
+        raise _refuse(f"a {game.value} position needs the {', '.join(missing)}")
+    return position
+
+
+def opening(first: State, position: Mapping[str, Point]) -> State:
+    """The state a set-up position starts from: the rack's own start (`first`, with its
+    options and breaker) with the position's balls, judged as a rack under way."""
+    cue = "cue" if first.game in IN_HAND else None
+    in_hand = IN_HAND[first.game] if cue is not None and cue not in position else None
+    on = first.on
+    if first.game is Game.SNOOKER and not any(b.startswith("red") for b in position):
+        on = next(c for c in COLOURS if c in position)
+    return first.evolve(
+        balls=dict(position), ball_in_hand=in_hand, shots=SET_UP_SHOTS, on=on, visit=0
+    )
