@@ -95,3 +95,80 @@ def opening(first: State, position: Mapping[str, Point]) -> State:
     return first.evolve(
         balls=dict(position), ball_in_hand=in_hand, shots=SET_UP_SHOTS, on=on, visit=0
     )
+
+
+# ----- named presets --------------------------------------------------------------------------
+#: Space between the centres of two balls set frozen (m): 2R and 0.2 mm, so that they still
+#: do not overlap once each coordinate is rounded to PLACE_STEPS.
+FROZEN = 2e-4
+
+
+def _toward(a: Point, b: Point, d: float) -> Point:
+    """The point `d` from `a` toward `b`."""
+    k = d / math.dist(a, b)
+    return (a[0] + k * (b[0] - a[0]), a[1] + k * (b[1] - a[1]))
+
+
+def _pool_presets(game: Game, size: int) -> dict[str, dict[str, Point]]:
+    on = table(game, size)
+    w, l, R = on.width, on.length, on.R
+    corner = (w, l)  # the top right pocket's mouth
+    key = "9" if game is Game.NINEBALL else "8"
+    lead = "1"  # the lowest ball, hit first
+    front = _toward(corner, (w / 2, l / 2), 0.25 * w)
+    behind = _toward(front, corner, -(2 * R + FROZEN))
+    spare = (0.2 * w, 0.7 * l)
+    # Nine-ball: the 1 into the 9; eight-ball: the 1 into the 9, the 8 out of the way.
+    combination = {lead: behind, "9": front, "cue": _toward(behind, corner, -0.5 * w)}
+    if game is Game.EIGHTBALL:
+        combination["8"] = spare
+    long_pot = {lead: _toward(corner, (0.0, 0.0), 0.2 * l), "cue": (0.2 * w, 0.2 * l)}
+    long_pot[key] = spare
+    return {"combination": combination, "long_pot": long_pot}
+
+
+def _snooker_presets() -> dict[str, dict[str, Point]]:
+    on = table(Game.SNOOKER)
+    w, l, R = on.width, on.length, on.R
+    corner = (w, l)
+    front = _toward(corner, (w / 2, l / 2), 0.3)
+    black = (w / 2, l - 0.324)
+    combination = {
+        "red1": front,
+        "red2": _toward(front, corner, -(2 * R + FROZEN)),
+        "black": black,
+        "cue": _toward(front, corner, -0.8),
+    }
+    long_pot = {
+        "red1": _toward(corner, (0.0, 0.0), 0.35),
+        "black": black,
+        "cue": _toward(corner, (0.0, 0.0), 2.6),
+    }
+    return {"combination": combination, "long_pot": long_pot}
+
+
+def _carom_presets() -> dict[str, dict[str, Point]]:
+    on = table(Game.THREE_CUSHION)
+    w, l = on.width, on.length
+    # The "standard" around-the-table shot: the white near the long rail at the head end, the
+    # yellow beside it nearer the short rail, the red at the far end: three rails the long way.
+    standard = {
+        "white": (0.78 * w, 0.3 * l),
+        "yellow": (0.9 * w, 0.12 * l),
+        "red": (0.3 * w, 0.8 * l),
+    }
+    return {"standard": standard}
+
+
+def presets(game: Game, size: int = STANDARD_SIZE) -> dict[str, dict[str, Point]]:
+    """The named practice positions of `game` on its `size` table, each checked (the game's
+    own rack, "the break", is a re-rack and not among them): pool and snooker a frozen-ball
+    combination into the top right pocket and a long pot down the table; three-cushion its
+    standard around-the-table position. Pool's scale with the table."""
+    if game in (Game.NINEBALL, Game.EIGHTBALL):
+        found = _pool_presets(game, size)
+    elif game is Game.SNOOKER:
+        found = _snooker_presets()
+    else:
+        found = _carom_presets()
+    return {name: check_position(game, balls, size) for name, balls in found.items()}

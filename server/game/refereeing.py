@@ -10,6 +10,7 @@ they return is picklable and already in wire form, so the event loop only stores
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -20,7 +21,8 @@ from rules.compact import decode_position, encode_position
 from rules.game import Setup, play, start
 from rules.game import check as rules_check
 from rules.inputs import Choice, Option, PlayerInput, Shot, accept
-from rules.positions import check_position
+from rules.positions import ball_names, check_position
+from rules.positions import presets as named_positions
 from rules.racks import REDS_FULL
 from rules.racks import Game as GameName
 from rules.record import GameRecord, replay
@@ -63,12 +65,14 @@ __all__ = [
     "Setup",
     "Shot",
     "State",
+    "ball_set",
     "bot_input",
     "check",
     "checked_position",
     "constraints",
     "new_rack",
     "next_breaker",
+    "presets",
     "referee",
     "replay_record",
     "rule_code",
@@ -139,6 +143,18 @@ def checked_position(
     """A set-up position as the rules start it (canonical steps); RuleError (BAD_POSITION)
     naming what is wrong when it cannot start a rack of `game` at these options."""
     return check_position(game, position, size, reds)
+
+
+@functools.cache
+def ball_set(game: GameName, reds: int = REDS_FULL) -> tuple[str, ...]:
+    """The balls a set-up position of `game` (snooker with `reds`) may hold."""
+    return ball_names(game, reds)
+
+
+@functools.cache
+def presets(game: GameName, size: int = STANDARD_SIZE) -> dict[str, Position]:
+    """The named practice positions of `game` on its `size` table (`rules.positions`)."""
+    return named_positions(game, size)
 
 
 def shot_position(state: State, action: PlayerInput) -> Position:

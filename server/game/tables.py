@@ -450,7 +450,20 @@ def view(
         rematch_table=record.rematch_table,
         position=record.position,
         retake=record.retake is not None,
+        **practice_aids(record),
     )
+
+
+def practice_aids(record: TableRecord) -> dict[str, object]:
+    """What a practice table's view adds for setting up positions: the balls a position may
+    hold and the game's named positions at the table's size (nothing at other tables)."""
+    if record.mode is not Mode.PRACTICE:
+        return {}
+    options = record.options
+    return {
+        "ball_set": list(refereeing.ball_set(record.game, options.reds)),
+        "presets": refereeing.presets(record.game, options.size),
+    }
 
 
 def played(

@@ -389,6 +389,16 @@ class TableView(BaseModel):
     retake: bool = Field(
         default=False, description="practice: the last shot can be taken again (`/retake`)"
     )
+    ball_set: list[str] = Field(
+        default=[],
+        description="practice: the game's balls at this table's options (what a set-up "
+        "position may hold)",
+    )
+    presets: dict[str, dict[str, tuple[float, float]]] = Field(
+        default={},
+        description="practice: named positions of this game and table size to set up "
+        "(`combination`, `long_pot`, three-cushion's `standard`); the break is a re-rack",
+    )
 
 
 class QuickRequest(GameChoice):

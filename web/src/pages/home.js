@@ -5,7 +5,7 @@ import { call, currentPlayer, get, post, register, storedPlayer } from "../net/a
 import { ensurePlayer, showWho } from "../net/identity.js";
 import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
-import { LOBBY, playerChannel, QUICK_POLL_MS } from "../net/protocol.js";
+import { LOBBY, playerChannel, QUICK_POLL_MS, SIZED_GAMES, TABLE_SIZE, TABLE_SIZES } from "../net/protocol.js";
 import { BOT_LEVELS, DEFAULT_BOT } from "../play/words.js";
 
 const $ = (id) => document.getElementById(id);
@@ -88,6 +88,21 @@ function gameCards() {
   for (const game of GAMES) select.append(new Option(GAME_NAMES[game], game));
 }
 
+/** The create form's table size select, shown for the games played on tables of several sizes;
+ *  returns what it adds to the create request. */
+function sizeSelect() {
+  const game = $("create-game");
+  const size = Object.assign(el("select"), { id: "size" });
+  for (const feet of TABLE_SIZES) size.append(new Option(`${feet} ft`, String(feet), false, feet === TABLE_SIZE));
+  const label = el("label", "Table ");
+  label.append(size);
+  game.after(label);
+  const shown = () => (label.hidden = !SIZED_GAMES.includes(game.value));
+  game.addEventListener("change", shown);
+  shown();
+  return () => (label.hidden ? {} : { size: Number(size.value) });
+}
+
 function showTables(tables, online) {
   $("online").textContent = online == null ? "" : `${online} player${online === 1 ? "" : "s"} online`;
   const body = $("tables").querySelector("tbody");
@@ -108,6 +123,7 @@ function showTables(tables, online) {
 
 async function main() {
   gameCards();
+  const sizeOf = sizeSelect();
   const stored = storedPlayer();
   if (stored) $("name").value = stored.name;
   ensurePlayerQuietly();
@@ -130,6 +146,7 @@ async function main() {
         race_to: Number($("race").value),
         shot_clock: Number($("clock").value),
         private: $("private").checked,
+        ...sizeOf(),
       });
       go(view.id);
     } catch (err) {
