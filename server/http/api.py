@@ -24,12 +24,10 @@ from server.game import commands, tables
 from server.game.lobby import new_seed
 from server.game.profiles import bots, profile, rating_view
 from server.game.refereeing import (
-    BAD_POSITION,
     RuleError,
     Setup,
     checked_position,
     rack_setup,
-    rule_code,
     share_code,
     shared,
 )
@@ -325,19 +323,16 @@ async def share_position(request: web.Request) -> web.Response:
         setup = rack_setup(body.game, 0, 0, position=position, **options)
     except RuleError as error:
         raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
-    except ValueError as error:
-        raise ServiceError(ErrorCode.BAD_REQUEST, str(error)) from None
     return answer(_shared(setup))
 
 
 async def open_position(request: web.Request) -> web.Response:
-    """What a shared position's code sets up, checked (a link may come from anyone)."""
+    """What a shared position's code sets up, checked (a link may come from anyone): a code
+    that is no position link, or one that cannot start a rack, is `bad_position`."""
     try:
         setup = shared(request.match_info["code"])
     except RuleError as error:
-        bad = rule_code(error) == BAD_POSITION
-        code = ErrorCode.BAD_POSITION if bad else ErrorCode.BAD_REQUEST
-        raise ServiceError(code, error.reason) from None
+        raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
     return answer(_shared(setup))
 
 
@@ -519,7 +514,7 @@ ROUTES: tuple[Route, ...] = (
           refusals=(ErrorCode.BAD_POSITION, ErrorCode.BAD_REQUEST)),
     Route("GET", f"/api/positions/{POSITION_CODE}", open_position,
           "What a shared position sets up", {200: SharedPosition}, auth=False,
-          refusals=(ErrorCode.BAD_POSITION, ErrorCode.BAD_REQUEST)),
+          refusals=(ErrorCode.BAD_POSITION, ErrorCode.BAD_REQUEST, ErrorCode.NOT_FOUND)),
     Route("POST", f"{_T}/heartbeat", heartbeat, "I am still here", {200: PresenceMessage},
           refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},

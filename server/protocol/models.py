@@ -199,13 +199,18 @@ class GameChoice(BaseModel):
 
     @model_validator(mode="after")
     def _options_of_the_game(self) -> GameChoice:
-        if self.reds != 15 and self.game != "snooker":
-            raise ValueError("only snooker is played with fewer reds")
-        if self.target and self.game != "three_cushion":
-            raise ValueError("only three-cushion has a target of points")
-        if self.size != ids.TABLE_SIZE and self.game not in ids.SIZED_GAMES:
-            raise ValueError("only nine-ball and eight-ball are played on other table sizes")
-        return self
+        return options_of_the_game(self)
+
+
+def options_of_the_game(choice: GameChoice | PositionShare) -> GameChoice | PositionShare:
+    """`choice`, once its options are found to be its game's (ValueError otherwise)."""
+    if choice.reds != 15 and choice.game != "snooker":
+        raise ValueError("only snooker is played with fewer reds")
+    if getattr(choice, "target", 0) and choice.game != "three_cushion":
+        raise ValueError("only three-cushion has a target of points")
+    if choice.size != ids.TABLE_SIZE and choice.game not in ids.SIZED_GAMES:
+        raise ValueError("only nine-ball and eight-ball are played on other table sizes")
+    return choice
 
 
 Coordinate = Annotated[float, Field(allow_inf_nan=False)]
@@ -267,6 +272,11 @@ class PositionShare(BaseModel):
     size: TableSize = ids.TABLE_SIZE
     reds: Reds = 15
     position: Position
+
+    @model_validator(mode="after")
+    def _options_of_the_game(self) -> PositionShare:
+        options_of_the_game(self)
+        return self
 
 
 class SharedPosition(BaseModel):

@@ -166,9 +166,10 @@ async def test_positions_are_shared_as_links_and_checked_when_opened(deploy: Dep
     assert opened == shared and opened["size"] == 8
     table = await ada.create("nineball", mode="practice", size=8, position=opened["position"])
     assert balls(table) == body["position"] and table["options"]["size"] == 8
-    for code in ("AAAA", "not-a-link", "x" * 300):
+    for code in ("AAAA", "not-a-link", "x" * 300, "0"):
         status, refused = await ada.call("GET", f"/api/positions/{code}")
-        assert (status, refused["code"]) == (400, "bad_request"), code
+        assert (status, refused["code"]) == (422, "bad_position"), code
+        assert "share link" in refused["reason"] or "position" in refused["reason"]
     overlapping = {**body, "position": {"9": [0.5, 1.0], "cue": [0.5, 1.02]}}
     status, refused = await ada.call("POST", "/api/positions", overlapping)
     assert (status, refused["code"]) == (422, "bad_position")

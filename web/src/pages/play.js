@@ -89,6 +89,7 @@ class PlayPage {
       botAims: () => this.view3d.botAims ?? 0,
       region: () => this.view3d.regionName,
       theirAim: () => this.theirAim ?? null,
+      table: () => this.view3d.table,
     });
     const els = { canvas: $("table"), power: $("power"), powerOut: $("power-out"), elevation: $("elevation") };
     Object.assign(els, { elevationOut: $("elevation-out"), tip: $("tip"), hit: $("hit"), viewToggle: $("view-toggle") });

@@ -62,8 +62,6 @@ export class PracticeTool {
     this.el = Object.assign(document.createElement("div"), { className: "actions practice", id: "practice" });
     document.getElementById("actions").after(this.el);
     this.bindPointer(page.view3d.canvas);
-    const table = page.view3d.table;
-    hooks.table = () => ({ w: table.w, l: table.l, R: table.R, size: table.size });
     hooks.practice = () => ({ editing: this.editing ? { ...this.editing.balls } : null, link: this.link });
   }
 
