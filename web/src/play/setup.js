@@ -138,6 +138,10 @@ export class PracticeTool {
     v3.setAim(null, {});
     v3.setMode("top");
     v3.setBalls(this.editing.balls);
+    // The stroke's controls wait until the position is played (the page's next render).
+    for (const id of ["controls", "keys", "view-toggle"]) document.getElementById(id).hidden = true;
+    document.getElementById("hint").textContent = "";
+    document.getElementById("status").textContent = "Setting up a position: nothing is played until you play from here.";
     this.show();
   }
 
