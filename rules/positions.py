@@ -41,6 +41,8 @@ IN_HAND: dict[Game, Region] = {
 #: Strokes a set-up position counts as played: past the break (0) and nine-ball's push-out
 #: shot (1), so the referees judge its first shot as any other.
 SET_UP_SHOTS = 2
+#: Larger than any table (m): a coordinate beyond it is refused before it is rounded.
+FAR = 100.0
 #: Snooker's colours from the lowest value: the ball on when no red is left.
 COLOURS = ("yellow", "green", "brown", "blue", "pink", "black")
 
@@ -51,7 +53,11 @@ def ball_names(game: Game, reds: int = REDS_FULL) -> tuple[str, ...]:
 
 
 def canonical(balls: Mapping[str, Point]) -> dict[str, Point]:
-    """The position with its coordinates in PLACE_STEPS, sorted by ball name."""
+    """The position with its coordinates in PLACE_STEPS, sorted by ball name; RuleError
+    (BAD_POSITION) for a coordinate no table has (not finite, or beyond FAR metres)."""
+    for ball, p in balls.items():
+        if not all(math.isfinite(v) and abs(v) <= FAR for v in p):
+            raise _refuse(f"the {ball} is not on the table bed")
     return {
         b: (quantise(p[0], PLACE_STEPS), quantise(p[1], PLACE_STEPS))
         for b, p in sorted(balls.items())
@@ -73,7 +79,7 @@ def check_position(
     for ball, (x, y) in position.items():
         if ball not in known:
             raise _refuse(f"{ball!r} is not a ball of {game.value} (its balls: {', '.join(known)})")
-        if not (math.isfinite(x) and math.isfinite(y)) or not on_table((x, y), on):
+        if not on_table((x, y), on):
             raise _refuse(f"the {ball} is not on the table bed (or is in a pocket)")
     for ball, p in position.items():
         if not is_free(p, position, on.R, ignore=ball):

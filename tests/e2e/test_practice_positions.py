@@ -118,6 +118,21 @@ def test_a_position_set_up_by_dragging_is_played_retaken_and_shared(open_page, s
     screenshot(friend, "practice-setup-opened-elsewhere")
 
 
+def test_a_named_position_is_set_up_from_the_list(open_page, server):
+    page = open_page("/practice/eightball")
+    enter_name(page, unique_name("Nm"))
+    wait_shown(page)
+    version = page.evaluate("window.billiards.version")
+    page.select_option("#preset", "combination")
+    page.click("#preset-go")
+    page.wait_for_function("(v) => window.billiards.version > v", arg=version)
+    wait_drawn(page)
+    view = table_of(page, server)
+    assert view["position"] == view["presets"]["combination"]
+    assert close(drawn_balls(page), view["presets"]["combination"], 1e-9)
+    screenshot(page, "practice-preset-combination")
+
+
 def test_a_broken_position_link_says_why(open_page, console):
     console.allow("the server responded with a status of 422")
     page = open_page("/practice/nineball?position=not-a-position")

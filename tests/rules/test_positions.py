@@ -3,6 +3,8 @@ by records and share links."""
 
 from __future__ import annotations
 
+import math
+
 import msgpack
 import pytest
 
@@ -10,7 +12,7 @@ from rules import compact
 from rules.codes import Refusal, RuleError
 from rules.game import Setup, play, start
 from rules.inputs import accept
-from rules.positions import SET_UP_SHOTS, canonical, check_position
+from rules.positions import SET_UP_SHOTS, canonical, check_position, presets
 from rules.racks import Game
 from rules.record import GameRecord, replay
 from rules.spots import POOL_SIZES
@@ -42,6 +44,8 @@ def test_a_position_starts_a_rack_under_way() -> None:
         (Game.NINEBALL, {"9": (0.5, 1.0), "red1": (0.5, 1.5)}, "not a ball"),
         (Game.NINEBALL, {"9": (0.01, 1.0)}, "not on the table"),
         (Game.NINEBALL, {"9": (0.5, 2.6)}, "not on the table"),
+        (Game.NINEBALL, {"9": (0.5, 1.8e308)}, "not on the table"),
+        (Game.NINEBALL, {"9": (float("nan"), 1.0)}, "not on the table"),
         (Game.NINEBALL, {"9": (0.02, 0.02)}, "not on the table"),  # in the corner pocket
         (Game.NINEBALL, {"9": (0.5, 1.0), "1": (0.5, 1.05)}, "overlaps"),
         (Game.NINEBALL, {"1": (0.5, 1.0)}, "needs the 9"),
@@ -100,3 +104,19 @@ def test_a_shared_position_round_trips_and_is_checked_on_open() -> None:
     with pytest.raises(RuleError, match="overlaps") as refused:
         compact.decode_position(forged)
     assert refused.value.code is Refusal.BAD_POSITION
+
+
+@pytest.mark.parametrize("game", list(Game))
+def test_named_positions_are_valid_on_every_size_and_scale_with_it(game: Game) -> None:
+    sizes = sorted(POOL_SIZES) if game in (Game.NINEBALL, Game.EIGHTBALL) else [9]
+    for size in sizes:
+        found = presets(game, size)
+        assert found and all(check_position(game, b, size) == b for b in found.values())
+        first = start(Setup(game=game, seed=1, size=size, position=next(iter(found.values()))))
+        assert first.shots == SET_UP_SHOTS
+    if len(sizes) > 1:
+        small, full = presets(game, 7)["combination"], presets(game, 9)["combination"]
+        assert small["9"][1] < full["9"][1]  # nearer the foot of the shorter table
+        # The combination's two balls are frozen (0.2 mm apart at most) on the 7 ft table too.
+        gap = math.dist(small["1"], small["9"]) - 2 * POOL_SIZES[7].R
+        assert 0 < gap <= 3e-4

@@ -65,6 +65,7 @@ REFUSED = {
         ({"position": {"red1": [0.5, 1.0], "9": [0.5, 1.5]}}, "bad_position"),  # not its ball
         ({"position": {"1": [0.5, 1.0]}}, "bad_position"),  # no 9: the rack could not end
         ({"position": {"9": [0.5, 2.2]}, "size": 7}, "bad_position"),  # off a 7 ft bed
+        ({"position": {"9": [0.5, 1.7e308]}}, "bad_position"),  # no rounding overflows
         ({"position": {"9": ["a", 1.0]}}, "bad_request"),
         ({"position": {"9": [0.5, 1.0]}, "mode": "match"}, "bad_request"),
     ],
@@ -98,6 +99,11 @@ async def test_rerack_sets_up_a_position_or_the_games_rack(deploy: Deploy) -> No
     assert balls(set_up) == POT and set_up["rack"] == table["rack"] + 1
     _, again = await ada.call("POST", path, {}, expect=200)
     assert again["position"] is None and len(again["state"]["balls"]) == 10
+    assert set(again["presets"]) == {"combination", "long_pot"}
+    assert again["ball_set"] == sorted(["cue", *map(str, range(1, 10))])
+    named = again["presets"]["long_pot"]
+    _, long_pot = await ada.call("POST", path, {"position": named}, expect=200)
+    assert balls(long_pot) == named and long_pot["position"] == named
     status, refused = await bob.call("POST", path, {})
     assert (status, refused["code"]) == (403, "forbidden")
     match = await ada.create("nineball")
