@@ -9,7 +9,8 @@ record, bit for bit. The msgpack document is one array:
 
 and, for a game at other options than the standard ones, after the digest: the reds (snooker's
 number, 15 otherwise), then the table size in feet (pool: 7, 8 or 9), then a set-up position's
-flat [ball, x, y, ...] (ball: its index among the game's sorted names, x and y in 0.1 mm), each
+flat [ball, x, y, ...] (ball: its index among the game's sorted names, x and y the doubles
+they are: a retake's position is where a shot left the balls), each
 present only when a later one is or it differs from the standard (so the links of standard
 games read as before).
 
@@ -17,7 +18,8 @@ A set-up position alone (no record: a practice position to share) is the array
 
     [POSITION_FORMAT, game, size, reds, position]
 
-packed, deflated and encoded the same way (`encode_position`, `decode_position`).
+(its x and y in 0.1 mm steps: a player's position is canonical in them), packed, deflated and
+encoded the same way (`encode_position`, `decode_position`).
 
 game: index in `Game`. gap: in 1e-7 m. breaker: the player who breaks (0 or 1). inputs: one
 flat array of integers (and a string where a name is not one of the table's). digests: the
@@ -62,7 +64,7 @@ from rules.inputs import (
     fixed,
     heading_steps,
 )
-from rules.positions import canonical, check_position
+from rules.positions import check_position
 from rules.racks import REDS_FULL, Game, rack
 from rules.record import MAX_INPUTS, GameRecord
 from rules.referee import referee
@@ -129,21 +131,33 @@ def _pack_inputs(record: GameRecord) -> list[int | str]:
     return out
 
 
-def _pack_position(position: dict[str, Point], balls: tuple[str, ...]) -> list[int | str]:
-    flat: list[int | str] = []
-    for ball, (x, y) in sorted(position.items()):
-        flat += [_name(ball, balls), fixed(x, PLACE_STEPS), fixed(y, PLACE_STEPS)]
+def _pack_position(
+    position: dict[str, Point], balls: tuple[str, ...], exact: bool = False
+) -> list[Any]:
+    """[ball, x, y, ...] in the position's order (which the engine's results depend on): x and
+    y in 0.1 mm steps (a player's position), or (`exact`: a record's, which may be where a
+    shot left the balls) as the doubles they are."""
+    flat: list[Any] = []
+    for ball, (x, y) in position.items():
+        at = [x, y] if exact else [fixed(x, PLACE_STEPS), fixed(y, PLACE_STEPS)]
+        flat += [_name(ball, balls), *at]
     return flat
 
 
-def _unpack_position(flat: Any, balls: tuple[str, ...]) -> dict[str, Point]:
+def _unpack_position(flat: Any, balls: tuple[str, ...], exact: bool = False) -> dict[str, Point]:
     if not isinstance(flat, list) or len(flat) % 3 or len(flat) > 3 * len(balls):
         raise ValueError("a position is a flat array of [ball, x, y]")
     reader = _Reader(flat, balls=balls)
     position = {}
     while reader.at < len(flat):
         ball = reader.name(balls)
-        position[ball] = (reader.number(PLACE_STEPS), reader.number(PLACE_STEPS))
+        if exact:
+            x, y = reader.take(), reader.take()
+            if type(x) is not float or type(y) is not float:
+                raise ValueError("a record's position is in doubles")
+            position[ball] = (x, y)
+        else:
+            position[ball] = (reader.number(PLACE_STEPS), reader.number(PLACE_STEPS))
     return position
 
 
@@ -156,7 +170,7 @@ def pack(record: GameRecord) -> bytes:
     doc += [_pack_inputs(record), digests, list(f.scores), f.winner, bytes.fromhex(f.digest)]
     extras: list[Any] = [s.reds, s.size]
     if s.position is not None:
-        extras.append(_pack_position(s.position, _names(s)[0]))
+        extras.append(_pack_position(s.position, _names(s)[0], exact=True))
     while len(extras) <= len(EXTRAS) and extras and extras[-1] == EXTRAS[len(extras) - 1]:
         extras.pop()
     return msgpack.packb(doc + extras)
@@ -269,7 +283,8 @@ def unpack(data: bytes) -> GameRecord:
             "size": size,
         }
         if len(extras) == len(EXTRAS) + 1:
-            fields["position"] = _unpack_position(extras[-1], _names(Setup(**fields))[0])
+            names = _names(Setup(**fields))[0]
+            fields["position"] = _unpack_position(extras[-1], names, exact=True)
         setup = Setup(**fields)
         if not isinstance(ints, list):
             raise ValueError("inputs must be an array")
@@ -334,5 +349,5 @@ def decode_position(text: str) -> Setup:
         raise RuleError(Refusal.MALFORMED, f"position: {exc.errors()[0]['msg']}") from None
     except (ValueError, TypeError, IndexError, msgpack.ExtraData) as exc:
         raise RuleError(Refusal.MALFORMED, f"position: {exc}") from None
-    check_position(bare.game, balls, bare.size, bare.reds)
-    return bare.model_copy(update={"position": canonical(balls)})
+    position = check_position(bare.game, balls, bare.size, bare.reds)
+    return Setup.model_validate({**bare.model_dump(), "position": position})

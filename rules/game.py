@@ -19,7 +19,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 import physics
 from rules.codes import Refusal, RuleError
 from rules.inputs import Choice, PlayerInput, Shot, check_canonical, quantise
-from rules.positions import canonical, check_position, opening
+from rules.positions import check_start, opening
 from rules.racks import POOL_GAMES, REDS_FULL, Game
 from rules.referee import allowed, referee, table_of
 from rules.spots import STANDARD_SIZE, Point, Size, in_region, is_free
@@ -47,7 +47,8 @@ class Setup(BaseModel):
     reds: snooker's reds, 6, 10 or 15 (the full game); the other games keep 15, unused.
     size: pool's table in feet, 7, 8 or 9 (the standard); the other games keep 9, unused.
     position: a set-up position the rack starts from instead of the seeded rack (practice,
-        `rules.positions`: checked, in canonical steps); None for the game's own rack.
+        `rules.positions.check_start`: the game's balls, each where the engine lets a ball
+        rest, to the bit); None for the game's own rack.
     breaker: the player (0 or 1) who breaks, so that a match's racks, whose break alternates,
         are each a record of their own with the players as seated. Three-cushion's rack
         places the breaker's ball as the white, so its breaker is always player 0.
@@ -69,11 +70,6 @@ class Setup(BaseModel):
     def _quantise_gap(cls, v: float) -> float:
         return quantise(v, GAP_STEPS)
 
-    @field_validator("position")
-    @classmethod
-    def _canonical_position(cls, v: dict[str, Point] | None) -> dict[str, Point] | None:
-        return None if v is None else canonical(v)
-
     @model_validator(mode="after")
     def _white_breaks(self) -> Setup:
         if self.game is Game.THREE_CUSHION and self.breaker != 0:
@@ -84,7 +80,7 @@ class Setup(BaseModel):
             raise ValueError("only pool is played on tables of other sizes")
         if self.position is not None:
             try:
-                check_position(self.game, self.position, self.size, self.reds)
+                check_start(self.game, self.position, self.size, self.reds)
             except RuleError as error:
                 raise ValueError(error.reason) from None
         return self

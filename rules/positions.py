@@ -1,12 +1,17 @@
 """Set-up positions: a rack of the player's own making (practice), checked and started.
 
-A position names where some of a game's own balls lie. It is a valid start when every ball is
-one of the game's (snooker's reds as the setup counts them), lies wholly on the bed and outside
-every pocket's capture circle (`rules.spots.on_table`), no two are closer than 2R (plus the
-spots' CLEARANCE), and the balls the game cannot end without are there (`REQUIRED`: the 9, the
-8, the black, all three carom balls). Coordinates are kept in the steps a placed cue ball is
-canonical in (0.1 mm, `rules.inputs.PLACE_STEPS`), so that a share link carries a position
-exactly and a record replays it bit for bit.
+A position names where some of a game's own balls lie. Two checks, one per source:
+
+- A player's position (`check_position`, strict): every ball one of the game's (snooker's
+  reds as the setup counts them), wholly on the bed and outside every pocket's capture circle
+  (`rules.spots.on_table`), no two closer than 2R plus the spots' CLEARANCE, and the balls the
+  game cannot end without there (`REQUIRED`: the 9, the 8, the black, all three carom balls).
+  Its coordinates are rounded to the steps a placed cue ball is canonical in (0.1 mm,
+  `rules.inputs.PLACE_STEPS`), so that a share link carries it exactly.
+- A position the engine left (`check_start`, what a setup accepts): the same balls, each where
+  the engine itself lets a ball rest (frozen to a neighbour, in a pocket's mouth: the scene's
+  own check), coordinates as they are. A retake starts from the balls as a shot left them, to
+  the last bit, so a record from it replays exactly.
 
 A set-up position is never a break: its first shot is refereed as an ordinary shot of a rack
 under way (`SET_UP_SHOTS`: no break rules, no nine-ball push-out), with ball in hand (the
@@ -18,6 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
+import physics
 from rules.codes import Refusal, RuleError
 from rules.inputs import PLACE_STEPS, quantise
 from rules.racks import REDS_FULL, Game, rack, table
@@ -52,16 +58,46 @@ def ball_names(game: Game, reds: int = REDS_FULL) -> tuple[str, ...]:
     return tuple(sorted(rack(game, 0, reds=reds)))
 
 
-def canonical(balls: Mapping[str, Point]) -> dict[str, Point]:
-    """The position with its coordinates in PLACE_STEPS, sorted by ball name; RuleError
-    (BAD_POSITION) for a coordinate no table has (not finite, or beyond FAR metres)."""
+def _finite(balls: Mapping[str, Point]) -> None:
+    """RuleError (BAD_POSITION) for a coordinate no table has (not finite, beyond FAR m)."""
     for ball, p in balls.items():
         if not all(math.isfinite(v) and abs(v) <= FAR for v in p):
             raise _refuse(f"the {ball} is not on the table bed")
+
+
+def canonical(balls: Mapping[str, Point]) -> dict[str, Point]:
+    """The position with its coordinates in PLACE_STEPS, sorted by ball name; RuleError
+    (BAD_POSITION) for a coordinate no table has."""
+    _finite(balls)
     return {
         b: (quantise(p[0], PLACE_STEPS), quantise(p[1], PLACE_STEPS))
         for b, p in sorted(balls.items())
     }
+
+
+def _balls_of_the_game(game: Game, position: Mapping[str, Point], reds: int) -> None:
+    known = ball_names(game, reds)
+    for ball in position:
+        if ball not in known:
+            raise _refuse(f"{ball!r} is not a ball of {game.value} (its balls: {', '.join(known)})")
+    missing = [b for b in REQUIRED[game] if b not in position]
+    if missing:
+        raise _refuse(f"a {game.value} position needs the {', '.join(missing)}")
+
+
+def check_start(
+    game: Game, balls: Mapping[str, Point], size: int = STANDARD_SIZE, reds: int = REDS_FULL
+) -> dict[str, Point]:
+    """The position as given (its order too: the engine meets simultaneous contacts, as in a
+    frozen rack, in the order of the balls), if a rack can start from it as the engine left it
+    (module docstring); RuleError (BAD_POSITION) naming what is wrong otherwise."""
+    _finite(balls)
+    _balls_of_the_game(game, balls, reds)
+    try:
+        physics.parse_scene({"table": table(game, size).preset, "balls": dict(balls)})
+    except physics.SceneError as error:
+        raise _refuse(f"the balls cannot rest there: {error}") from None
+    return dict(balls)
 
 
 def _refuse(why: str) -> RuleError:
@@ -71,22 +107,17 @@ def _refuse(why: str) -> RuleError:
 def check_position(
     game: Game, balls: Mapping[str, Point], size: int = STANDARD_SIZE, reds: int = REDS_FULL
 ) -> dict[str, Point]:
-    """The canonical position (see `canonical`); RuleError (BAD_POSITION) naming the first
-    ball that cannot start there, or the ball missing, when it is not a valid start."""
-    known = ball_names(game, reds)
+    """A player's position, canonical (see `canonical`); RuleError (BAD_POSITION) naming the
+    first ball that cannot start there, or the ball missing, when it is not a valid start."""
     on = table(game, size)
     position = canonical(balls)
+    _balls_of_the_game(game, position, reds)
     for ball, (x, y) in position.items():
-        if ball not in known:
-            raise _refuse(f"{ball!r} is not a ball of {game.value} (its balls: {', '.join(known)})")
         if not on_table((x, y), on):
             raise _refuse(f"the {ball} is not on the table bed (or is in a pocket)")
     for ball, p in position.items():
         if not is_free(p, position, on.R, ignore=ball):
             raise _refuse(f"the {ball} overlaps another ball")
-    missing = [b for b in REQUIRED[game] if b not in position]
-    if missing:
-        raise _refuse(f"a {game.value} position needs the {', '.join(missing)}")
     return position
 
 

@@ -21,7 +21,7 @@ from rules.compact import decode_position, encode_position
 from rules.game import Setup, play, start
 from rules.game import check as rules_check
 from rules.inputs import Choice, Option, PlayerInput, Shot, accept
-from rules.positions import ball_names, check_position
+from rules.positions import ball_names, check_position, check_start
 from rules.positions import presets as named_positions
 from rules.racks import REDS_FULL
 from rules.racks import Game as GameName
@@ -138,11 +138,19 @@ def new_rack(game: GameName, seed: int, breaker: int, **options: object) -> Stat
 
 
 def checked_position(
-    game: GameName, position: Position, *, reds: int = REDS_FULL, size: int = STANDARD_SIZE
+    game: GameName,
+    position: Position,
+    *,
+    reds: int = REDS_FULL,
+    size: int = STANDARD_SIZE,
+    left: bool = False,
 ) -> Position:
-    """A set-up position as the rules start it (canonical steps); RuleError (BAD_POSITION)
-    naming what is wrong when it cannot start a rack of `game` at these options."""
-    return check_position(game, position, size, reds)
+    """A set-up position as the rules start it: a player's, on the bed and apart, in canonical
+    steps; or (`left`) one a shot left, where the engine lets balls rest, to the bit
+    (`rules.positions`). RuleError (BAD_POSITION) naming what is wrong when it cannot start a
+    rack of `game` at these options."""
+    check = check_start if left else check_position
+    return check(game, position, size, reds)
 
 
 @functools.cache

@@ -163,11 +163,16 @@ def rack_setup(
     )
 
 
-def set_up(game: GameName, options: TableOptions, position: Position) -> Position:
-    """A set-up position checked for a table of `game` at `options`, in the rules' canonical
-    steps; BAD_POSITION saying what is wrong otherwise (nothing is stored)."""
+def set_up(
+    game: GameName, options: TableOptions, position: Position, left: bool = False
+) -> Position:
+    """A set-up position checked for a table of `game` at `options` (`left`: by a shot, as
+    `refereeing.checked_position` says); BAD_POSITION saying what is wrong otherwise (nothing
+    is stored)."""
     try:
-        return refereeing.checked_position(game, position, reds=options.reds, size=options.size)
+        return refereeing.checked_position(
+            game, position, reds=options.reds, size=options.size, left=left
+        )
     except refereeing.RuleError as error:
         raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
 
@@ -284,22 +289,22 @@ def rematch_table(record: TableRecord, seed: int) -> TableRecord:
 
 
 def practising(record: TableRecord, player: PlayerInfo) -> None:
-    """WRONG_PHASE unless `player` practises at this table and nothing is being played."""
+    """FORBIDDEN unless `player` sits here, WRONG_PHASE unless this is a practice table under
+    way (the actor settles a pending input before any change, so none is being played)."""
     seated(record, player)
     if record.mode is not Mode.PRACTICE or record.status is not Status.PLAYING:
         raise ServiceError(ErrorCode.WRONG_PHASE, "only a practice table under way is re-racked")
-    if record.pending is not None:
-        raise ServiceError(ErrorCode.WRONG_PHASE, "a shot is being played: re-rack after it")
 
 
 def rerack(
-    record: TableRecord, player: PlayerInfo, position: Position | None = None
+    record: TableRecord, player: PlayerInfo, position: Position | None = None, left: bool = False
 ) -> TableRecord:
-    """The practice table's next rack, from a set-up `position` (checked, BAD_POSITION) or,
-    without one, the game's own rack; the rack under way is dropped unrecorded."""
+    """The practice table's next rack, from a set-up `position` (checked, BAD_POSITION; `left`:
+    by the last shot) or, without one, the game's own rack; the rack under way is dropped
+    unrecorded."""
     practising(record, player)
     if position is not None:
-        position = set_up(record.game, record.options, position)
+        position = set_up(record.game, record.options, position, left)
     rack = record.rack + 1
     setup = rack_setup(record.game, record.options, record.seed + rack, 0, position)
     return bump(
@@ -320,7 +325,8 @@ def retake(record: TableRecord, player: PlayerInfo) -> TableRecord:
     practising(record, player)
     if record.retake is None:
         raise ServiceError(ErrorCode.WRONG_PHASE, "no shot to take again yet")
-    return rerack(record, player, record.retake)
+    after = rerack(record, player, record.retake, left=True)
+    return after.model_copy(update={"retake": record.retake})  # and again, as often as wanted
 
 
 def bump(record: TableRecord, **changes: object) -> TableRecord:

@@ -12,7 +12,7 @@ from rules import compact
 from rules.codes import Refusal, RuleError
 from rules.game import Setup, play, start
 from rules.inputs import accept
-from rules.positions import SET_UP_SHOTS, canonical, check_position, presets
+from rules.positions import SET_UP_SHOTS, canonical, check_position, check_start, presets
 from rules.racks import Game
 from rules.record import GameRecord, replay
 from rules.spots import POOL_SIZES
@@ -69,9 +69,27 @@ def test_the_bed_is_the_tables_own() -> None:
         check_position(Game.NINEBALL, far, size=7)
 
 
-def test_positions_are_canonical_in_tenths_of_a_millimetre() -> None:
-    setup = Setup(game="nineball", seed=1, position={"9": (0.123456789, 1.0)})
-    assert setup.position == {"9": (0.1235, 1.0)}
+def test_a_players_position_is_canonical_and_a_left_one_exact() -> None:
+    assert check_position(Game.NINEBALL, {"9": (0.123456789, 1.0)}) == {"9": (0.1235, 1.0)}
+    # A position as a shot leaves it is kept to the bit, frozen balls and all: two balls
+    # frozen as the engine leaves them (2R apart within its tolerance) are a player's overlap
+    # once rounded to 0.1 mm, but a retake's start.
+    R = POOL_SIZES[9].R
+    frozen = {"9": (0.5, 1.0), "1": (0.5 + 2 * R - 5e-10, 1.0)}
+    with pytest.raises(RuleError, match="overlaps"):
+        check_position(Game.NINEBALL, frozen)
+    assert list(check_start(Game.NINEBALL, frozen).items()) == list(frozen.items())
+    setup = Setup(game="nineball", seed=3, position=frozen)
+    assert setup.position == frozen and start(setup).balls == frozen
+    rack = start(Setup(game="nineball", seed=3)).balls
+    assert Setup(game="nineball", seed=3, position=rack).position == rack
+    # A record's link keeps the position's doubles and order (the engine's results depend on
+    # the order of frozen balls).
+    record = GameRecord.begin(Setup(game="nineball", seed=3, position=rack))
+    linked = compact.decode(compact.encode(record)).setup.position
+    assert list(linked.items()) == list(rack.items())
+    with pytest.raises(ValueError, match="overlap"):
+        Setup(game="nineball", seed=3, position={**rack, "cue": rack["1"]})
 
 
 def test_a_record_from_a_position_replays_exactly_and_links_carry_it() -> None:
@@ -98,7 +116,7 @@ def test_a_shared_position_round_trips_and_is_checked_on_open() -> None:
         with pytest.raises(RuleError) as refused:
             compact.decode_position(bad)
         assert refused.value.code is Refusal.MALFORMED
-    names = sorted(setup.position)
+    names = compact._names(setup)[0]
     overlapping = [names.index("9"), 5000, 10000, names.index("cue"), 5000, 10100]
     forged = compact._to_link(msgpack.packb([1, 0, 8, 15, overlapping]))
     with pytest.raises(RuleError, match="overlaps") as refused:

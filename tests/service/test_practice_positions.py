@@ -29,11 +29,14 @@ def balls(view: dict[str, Any]) -> dict[str, list[float]]:
 async def shoot_and_wait(
     http: TestClient, player: Player, view: dict[str, Any], action: dict[str, Any]
 ) -> dict[str, Any]:
-    """Play `action` at the table and return the outcome published for it."""
+    """Play `action` at the table and return the outcome published for it (the channel
+    replays earlier outcomes first)."""
     watcher = await watch(http, view["channel"])
     status, answer = await player.shoot(view["id"], view["version"], action)
     assert status == 202, answer
-    return await watcher.next_kind("outcome")
+    while (outcome := await watcher.next_kind("outcome"))["version"] <= view["version"]:
+        pass
+    return outcome
 
 
 async def test_a_practice_table_starts_from_a_set_up_position(deploy: Deploy) -> None:
@@ -133,6 +136,24 @@ async def test_a_retake_sets_up_the_position_of_the_last_shot_and_replays_it(
     again = await shoot_and_wait(replicas[0], ada, retaken, {"strike": placed["strike"]})
     assert again["state"]["balls"] == first["state"]["balls"]
     assert again["decision"] == first["decision"]
+
+
+async def test_a_retake_of_a_break_restores_the_frozen_rack_to_the_bit(deploy: Deploy) -> None:
+    """The game's rack has its balls frozen (2R apart), which a player's position may not
+    have: a retake starts from the balls as they lay, exactly, as often as wanted."""
+    replicas = await deploy()
+    ada = await register(replicas[0], "Ada")
+    table = await ada.create("nineball", mode="practice")
+    rack = balls(table)
+    brk = {"strike": {"ball": "cue", "speed": 7.0, "heading": 90.0}}
+    first = await shoot_and_wait(replicas[0], ada, table, brk)
+    path = f"/api/tables/{table['id']}/retake"
+    _, retaken = await on(replicas, ada, 1).call("POST", path, expect=200)
+    assert balls(retaken) == rack and retaken["retake"] is True
+    again = await shoot_and_wait(replicas[0], ada, retaken, brk)
+    assert again["state"]["balls"] == first["state"]["balls"]
+    _, twice = await ada.call("POST", path, expect=200)
+    assert balls(twice) == rack and twice["version"] == again["version"] + 1
 
 
 async def test_a_set_up_break_is_not_ranked_and_its_claim_is_refused(deploy: Deploy) -> None:
