@@ -20,22 +20,14 @@ from pydantic import BaseModel, ValidationError
 from redis.exceptions import RedisError
 
 from physics.scene import unique_keys
-from server.game import commands, tables
+from server.game import commands, positions, tables
 from server.game.lobby import new_seed
 from server.game.profiles import bots, profile, rating_view
-from server.game.refereeing import (
-    RuleError,
-    Setup,
-    checked_position,
-    rack_setup,
-    share_code,
-    shared,
-)
 from server.game.service import NAMES_PER_ADDRESS, SERVICE_KEY, Service, running_service
 from server.game.tables import GRACE, TableRecord
 from server.protocol import ids
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import MAX_BODY, MAX_RECORD_BODY, new_table_id, practice_url
+from server.protocol.ids import MAX_BODY, MAX_RECORD_BODY, new_table_id
 from server.protocol.models import (
     AimMessage,
     AimRequest,
@@ -301,39 +293,12 @@ async def retake(request: web.Request) -> web.Response:
 
 
 # ----- shared positions -------------------------------------------------------------------------
-def _shared(setup: Setup) -> SharedPosition:
-    code = share_code(setup)
-    assert setup.position is not None
-    return SharedPosition(
-        code=code,
-        url=practice_url(setup.game, code),
-        game=setup.game,
-        size=setup.size,
-        reds=setup.reds,
-        position=setup.position,
-    )
-
-
 async def share_position(request: web.Request) -> web.Response:
-    """A position's share link, once it is checked as a practice table would check it."""
-    body = await parse(request, PositionShare)
-    options = {"reds": body.reds, "size": body.size}
-    try:
-        position = checked_position(body.game, body.position, **options)
-        setup = rack_setup(body.game, 0, 0, position=position, **options)
-    except RuleError as error:
-        raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
-    return answer(_shared(setup))
+    return answer(positions.share(await parse(request, PositionShare)))
 
 
 async def open_position(request: web.Request) -> web.Response:
-    """What a shared position's code sets up, checked (a link may come from anyone): a code
-    that is no position link, or one that cannot start a rack, is `bad_position`."""
-    try:
-        setup = shared(request.match_info["code"])
-    except RuleError as error:
-        raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
-    return answer(_shared(setup))
+    return answer(positions.open_link(request.match_info["code"]))
 
 
 async def intent(request: web.Request) -> web.Response:
