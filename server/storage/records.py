@@ -32,7 +32,7 @@ from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, Repla
 
 STORAGE_VERSION = 4
 #: The digest of the stored types' schemas at `STORAGE_VERSION` (see the module docstring).
-FINGERPRINT = "5668f928c0c5305d"
+FINGERPRINT = "1eb16da3a7deb169"
 #: The record types storage keeps (and `fingerprint` digests).
 STORED: tuple[type[BaseModel], ...] = (
     TableRecord,
