@@ -130,6 +130,8 @@ def test_a_named_position_is_set_up_from_the_list(open_page, server):
     view = table_of(page, server)
     assert view["position"] == view["presets"]["combination"]
     assert close(drawn_balls(page), view["presets"]["combination"], 1e-9)
+    page.click("#view-toggle")
+    wait_drawn(page, "top")
     screenshot(page, "practice-preset-combination")
 
 
