@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from physics.params import CAROM, POOL, SNOOKER, Params
 
@@ -258,6 +258,10 @@ def position_problem(g: Geometry, R: float, x: float, y: float, tol: float) -> s
 #: A 9 ft pool table (100 x 50 in playing surface) for nine-ball and eight-ball; the cushion
 #: nose at 63.5% of the ball's diameter.
 NINEBALL = TableSpec("nineball", w=1.27, l=2.54, pockets=True, cushion_height=0.635 * 2 * 0.028575)
+#: The smaller pool tables (WPA playing surfaces: 8 ft 88 x 44 in, 7 ft 78 x 39 in): the same
+#: balls, cushions and pockets on a shorter bed, still twice as long as wide.
+NINEBALL_8FT = replace(NINEBALL, name="nineball_8ft", w=1.1176, l=2.2352)
+NINEBALL_7FT = replace(NINEBALL, name="nineball_7ft", w=0.9906, l=1.9812)
 
 #: A 12 ft snooker table (3569 x 1778 mm) with its tighter, rounder pockets; the nose at 7R/5,
 #: the height Mathavan 2010 measured (sin theta = 2/5).
@@ -283,6 +287,8 @@ THREE_CUSHION = TableSpec("three_cushion", w=1.42, l=2.84, pockets=False, cushio
 #: Each named table with the balls and cloth it is played with.
 PRESETS: dict[str, tuple[TableSpec, Params]] = {
     "nineball": (NINEBALL, POOL),
+    "nineball_8ft": (NINEBALL_8FT, POOL),
+    "nineball_7ft": (NINEBALL_7FT, POOL),
     "snooker": (SNOOKER_TABLE, SNOOKER),
     "three_cushion": (THREE_CUSHION, CAROM),
 }

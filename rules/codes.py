@@ -30,6 +30,7 @@ class Refusal(StrEnum):
     BAD_NOMINATION = "bad_nomination"
     ENGINE_VERSION = "engine_version"  # a record played under another engine
     REPLAY_DIFFERS = "replay_differs"  # a record whose replay is not the game it states
+    BAD_POSITION = "bad_position"  # a set-up position that cannot start a rack
 
 
 class FoulCode(StrEnum):

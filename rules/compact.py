@@ -7,8 +7,19 @@ record, bit for bit. The msgpack document is one array:
 
     [FORMAT, engine, game, seed, gap, target, breaker, inputs, digests, scores, winner, digest]
 
-and, for a snooker game with fewer reds than fifteen, their number after the digest (so the
-links of full games read as before).
+and, for a game at other options than the standard ones, after the digest: the reds (snooker's
+number, 15 otherwise), then the table size in feet (pool: 7, 8 or 9), then a set-up position's
+flat [ball, x, y, ...] (ball: its index among the game's sorted names, x and y the doubles
+they are: a retake's position is where a shot left the balls), each
+present only when a later one is or it differs from the standard (so the links of standard
+games read as before).
+
+A set-up position alone (no record: a practice position to share) is the array
+
+    [POSITION_FORMAT, game, size, reds, position]
+
+(its x and y in 0.1 mm steps: a player's position is canonical in them), packed, deflated and
+encoded the same way (`encode_position`, `decode_position`).
 
 game: index in `Game`. gap: in 1e-7 m. breaker: the player who breaks (0 or 1). inputs: one
 flat array of integers (and a string where a name is not one of the table's). digests: the
@@ -53,11 +64,18 @@ from rules.inputs import (
     fixed,
     heading_steps,
 )
+from rules.positions import check_position
 from rules.racks import REDS_FULL, Game, rack
 from rules.record import MAX_INPUTS, GameRecord
 from rules.referee import referee
+from rules.spots import STANDARD_SIZE, Point
 
 FORMAT = 2
+POSITION_FORMAT = 1
+#: The standard values of the optional fields after a record's digest, in their order.
+EXTRAS = (REDS_FULL, STANDARD_SIZE)
+#: Fields of a record's array before them.
+RECORD_FIELDS = 12
 #: Largest compact record accepted, deflated and inflated (bytes): far above MAX_INPUTS shots.
 MAX_INFLATED = 1 << 18
 
@@ -113,6 +131,36 @@ def _pack_inputs(record: GameRecord) -> list[int | str]:
     return out
 
 
+def _pack_position(
+    position: dict[str, Point], balls: tuple[str, ...], exact: bool = False
+) -> list[Any]:
+    """[ball, x, y, ...] in the position's order (which the engine's results depend on): x and
+    y in 0.1 mm steps (a player's position), or (`exact`: a record's, which may be where a
+    shot left the balls) as the doubles they are."""
+    flat: list[Any] = []
+    for ball, (x, y) in position.items():
+        at = [x, y] if exact else [fixed(x, PLACE_STEPS), fixed(y, PLACE_STEPS)]
+        flat += [_name(ball, balls), *at]
+    return flat
+
+
+def _unpack_position(flat: Any, balls: tuple[str, ...], exact: bool = False) -> dict[str, Point]:
+    if not isinstance(flat, list) or len(flat) % 3 or len(flat) > 3 * len(balls):
+        raise ValueError("a position is a flat array of [ball, x, y]")
+    reader = _Reader(flat, balls=balls)
+    position = {}
+    while reader.at < len(flat):
+        ball = reader.name(balls)
+        if exact:
+            x, y = reader.take(), reader.take()
+            if type(x) is not float or type(y) is not float:
+                raise ValueError("a record's position is in doubles")
+            position[ball] = (x, y)
+        else:
+            position[ball] = (reader.number(PLACE_STEPS), reader.number(PLACE_STEPS))
+    return position
+
+
 def pack(record: GameRecord) -> bytes:
     """The record as msgpack (before compression)."""
     s, f = record.setup, record.final
@@ -120,24 +168,33 @@ def pack(record: GameRecord) -> bytes:
     doc = [FORMAT, record.engine, GAMES.index(s.game), s.seed, fixed(s.gap, GAP_STEPS), s.target]
     doc.append(s.breaker)
     doc += [_pack_inputs(record), digests, list(f.scores), f.winner, bytes.fromhex(f.digest)]
-    if s.reds != REDS_FULL:
-        doc.append(s.reds)
-    return msgpack.packb(doc)
+    extras: list[Any] = [s.reds, s.size]
+    if s.position is not None:
+        extras.append(_pack_position(s.position, _names(s)[0], exact=True))
+    while len(extras) <= len(EXTRAS) and extras and extras[-1] == EXTRAS[len(extras) - 1]:
+        extras.pop()
+    return msgpack.packb(doc + extras)
+
+
+def _to_link(data: bytes) -> str:
+    """Raw deflate, base64url without padding."""
+    deflate = zlib.compressobj(9, zlib.DEFLATED, -15)
+    return base64.urlsafe_b64encode(deflate.compress(data) + deflate.flush()).rstrip(b"=").decode()
 
 
 def encode(record: GameRecord) -> str:
     """The share-link text: pack, raw deflate, base64url without padding."""
-    deflate = zlib.compressobj(9, zlib.DEFLATED, -15)
-    data = deflate.compress(pack(record)) + deflate.flush()
-    return base64.urlsafe_b64encode(data).rstrip(b"=").decode("ascii")
+    return _to_link(pack(record))
 
 
 class _Reader:
     """Reads the flat input integers back into inputs."""
 
-    def __init__(self, values: list[Any], setup: Setup) -> None:
+    def __init__(
+        self, values: list[Any], setup: Setup | None = None, balls: tuple[str, ...] = ()
+    ) -> None:
         self.values, self.at = values, 0
-        self.balls, self.pockets = _names(setup)
+        self.balls, self.pockets = _names(setup) if setup is not None else (balls, ())
 
     def take(self) -> Any:
         if self.at >= len(self.values):
@@ -203,22 +260,32 @@ def unpack(data: bytes) -> GameRecord:
     """A record from its msgpack bytes; raises RuleError (MALFORMED) for anything else."""
     try:
         doc = msgpack.unpackb(data, strict_map_key=True)
-        reds = doc.pop() if isinstance(doc, list) and len(doc) == 13 else REDS_FULL
-        version, engine, game, seed, gap, target, breaker, ints, digests, scores, winner, last = doc
+        if not isinstance(doc, list) or not RECORD_FIELDS <= len(doc) <= RECORD_FIELDS + 3:
+            raise ValueError("not a compact record of this format")
+        extras = doc[RECORD_FIELDS:]
+        version, engine, game, seed, gap, target, breaker, ints, digests, scores, winner, last = (
+            doc[:RECORD_FIELDS]
+        )
         if version != FORMAT or type(game) is not int or not 0 <= game < len(GAMES):
             raise ValueError("not a compact record of this format")
+        reds, size = (*extras[:2], *EXTRAS[len(extras[:2]) :])
         if not isinstance(digests, bytes) or len(digests) % 2 or not isinstance(last, bytes):
             raise ValueError("bad digests")
         if type(gap) is not int:
             raise ValueError("the gap is not an integer")
-        setup = Setup(
-            game=GAMES[game],
-            seed=seed,
-            gap=gap / GAP_STEPS,
-            target=target,
-            breaker=breaker,
-            reds=reds,
-        )
+        fields = {
+            "game": GAMES[game],
+            "seed": seed,
+            "gap": gap / GAP_STEPS,
+            "target": target,
+            "breaker": breaker,
+            "reds": reds,
+            "size": size,
+        }
+        if len(extras) == len(EXTRAS) + 1:
+            names = _names(Setup(**fields))[0]
+            fields["position"] = _unpack_position(extras[-1], names, exact=True)
+        setup = Setup(**fields)
         if not isinstance(ints, list):
             raise ValueError("inputs must be an array")
         return GameRecord(
@@ -235,11 +302,11 @@ def unpack(data: bytes) -> GameRecord:
         raise RuleError(Refusal.MALFORMED, f"compact record: {exc}") from None
 
 
-def decode(text: str) -> GameRecord:
-    """A record from its share-link text; raises RuleError (MALFORMED) for anything else."""
+def _from_link(text: str, what: str) -> bytes:
+    """The bytes of a share link's text; RuleError (MALFORMED) for anything else."""
     text = text.strip()
     if len(text) > MAX_INFLATED:
-        raise RuleError(Refusal.MALFORMED, "compact record: too long for a share link")
+        raise RuleError(Refusal.MALFORMED, f"{what}: too long for a share link")
     try:
         raw = base64.urlsafe_b64decode(text + "=" * (-len(text) % 4))
         inflate = zlib.decompressobj(-15)
@@ -247,5 +314,40 @@ def decode(text: str) -> GameRecord:
         if inflate.unconsumed_tail or not inflate.eof:
             raise ValueError("too large or truncated")
     except (binascii.Error, zlib.error, ValueError) as exc:
-        raise RuleError(Refusal.MALFORMED, f"compact record: not a share link ({exc})") from None
-    return unpack(data)
+        raise RuleError(Refusal.MALFORMED, f"{what}: not a share link ({exc})") from None
+    return data
+
+
+def decode(text: str) -> GameRecord:
+    """A record from its share-link text; raises RuleError (MALFORMED) for anything else."""
+    return unpack(_from_link(text, "compact record"))
+
+
+def encode_position(setup: Setup) -> str:
+    """The share-link text of a setup's position (game, size, reds and the balls)."""
+    assert setup.position is not None
+    balls = _pack_position(setup.position, _names(setup)[0])
+    doc = [POSITION_FORMAT, GAMES.index(setup.game), setup.size, setup.reds, balls]
+    return _to_link(msgpack.packb(doc))
+
+
+def decode_position(text: str) -> Setup:
+    """The setup (seed 0) of a shared position, checked as any set-up position is; RuleError:
+    MALFORMED for a text that is no position link, BAD_POSITION for a position that cannot
+    start a rack."""
+    data = _from_link(text, "position")
+    try:
+        doc = msgpack.unpackb(data, strict_map_key=True)
+        if not isinstance(doc, list) or len(doc) != 5 or doc[0] != POSITION_FORMAT:
+            raise ValueError("not a position link of this format")
+        _, game, size, reds, flat = doc
+        if type(game) is not int or not 0 <= game < len(GAMES):
+            raise ValueError("unknown game")
+        bare = Setup(game=GAMES[game], seed=0, size=size, reds=reds)
+        balls = _unpack_position(flat, _names(bare)[0])
+    except ValidationError as exc:
+        raise RuleError(Refusal.MALFORMED, f"position: {exc.errors()[0]['msg']}") from None
+    except (ValueError, TypeError, IndexError, msgpack.ExtraData) as exc:
+        raise RuleError(Refusal.MALFORMED, f"position: {exc}") from None
+    position = check_position(bare.game, balls, bare.size, bare.reds)
+    return Setup.model_validate({**bare.model_dump(), "position": position})

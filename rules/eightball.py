@@ -32,7 +32,7 @@ from rules.codes import NoteCode
 from rules.events import ShotFacts, read_shot
 from rules.inputs import Shot, ShotOptions
 from rules.racks import REDS_FULL, SOLIDS, STRIPES, Game, rack
-from rules.spots import POOL_TABLE, Point
+from rules.spots import POOL_TABLE, STANDARD_SIZE, Point, Size
 from rules.state import Decision, Foul, Group, Note, State, note, other
 
 GAME = Game.EIGHTBALL
@@ -41,8 +41,11 @@ TABLE = POOL_TABLE
 CALL_THE_EIGHT = ShotOptions(call=pool.POCKETS)
 
 
-def new_game(seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL) -> State:
-    return State(game=GAME, balls=rack(GAME, seed, gap), ball_in_hand="kitchen")
+def new_game(
+    seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL, size: Size = STANDARD_SIZE
+) -> State:
+    balls = rack(GAME, seed, gap, size=size)
+    return State(game=GAME, balls=balls, ball_in_hand="kitchen", size=size)
 
 
 def cue_ball(state: State) -> str:
@@ -113,7 +116,7 @@ def judge(
         fouls = pool.contact_fouls(facts, legal | {"8"}, "a ball", rail=False)
         fouls += pool.break_fouls(facts)
         if "8" in facts.pocketed:
-            respotted["8"] = positions["8"] = pool.respot_on_foot_spot(positions)
+            respotted["8"] = positions["8"] = pool.respot_on_foot_spot(positions, state.size)
             notes.append(note(NoteCode.EIGHT_ON_BREAK, "8 pocketed on the break: respotted"))
     else:
         fouls = pool.contact_fouls(facts, legal, words, rail=True)

@@ -19,9 +19,10 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 import physics
 from rules.codes import Refusal, RuleError
 from rules.inputs import Choice, PlayerInput, Shot, check_canonical, quantise
-from rules.racks import REDS_FULL, Game
-from rules.referee import allowed, referee
-from rules.spots import Point, in_region, is_free
+from rules.positions import check_start, opening
+from rules.racks import POOL_GAMES, REDS_FULL, Game
+from rules.referee import allowed, referee, table_of
+from rules.spots import STANDARD_SIZE, Point, Size, in_region, is_free
 from rules.state import Decision, State, other
 
 REGION_WORDS = {
@@ -44,6 +45,10 @@ class Setup(BaseModel):
         1e-7 m (GAP_STEPS) so that the compact record stores it as an integer.
     target: three-cushion points to win (0 = the default of 15); ignored by the other games.
     reds: snooker's reds, 6, 10 or 15 (the full game); the other games keep 15, unused.
+    size: pool's table in feet, 7, 8 or 9 (the standard); the other games keep 9, unused.
+    position: a set-up position the rack starts from instead of the seeded rack (practice,
+        `rules.positions.check_start`: the game's balls, each where the engine lets a ball
+        rest, to the bit); None for the game's own rack.
     breaker: the player (0 or 1) who breaks, so that a match's racks, whose break alternates,
         are each a record of their own with the players as seated. Three-cushion's rack
         places the breaker's ball as the white, so its breaker is always player 0.
@@ -57,6 +62,8 @@ class Setup(BaseModel):
     target: Annotated[int, Field(strict=True, ge=0, le=1000)] = 0
     breaker: Annotated[int, Field(strict=True, ge=0, le=1)] = 0
     reds: Literal[6, 10, 15] = REDS_FULL
+    size: Size = STANDARD_SIZE
+    position: dict[str, Point] | None = None
 
     @field_validator("gap")
     @classmethod
@@ -69,7 +76,19 @@ class Setup(BaseModel):
             raise ValueError("in three-cushion player 0 breaks (the rack's white is theirs)")
         if self.game is not Game.SNOOKER and self.reds != REDS_FULL:
             raise ValueError("only snooker is played with fewer reds")
+        if self.game not in POOL_GAMES and self.size != STANDARD_SIZE:
+            raise ValueError("only pool is played on tables of other sizes")
+        if self.position is not None:
+            try:
+                check_start(self.game, self.position, self.size, self.reds)
+            except RuleError as error:
+                raise ValueError(error.reason) from None
         return self
+
+    @property
+    def set_up(self) -> bool:
+        """The rack starts from a position a player set up, not from the game's rack."""
+        return self.position is not None
 
 
 @dataclass(frozen=True, slots=True)
@@ -83,7 +102,10 @@ class Outcome:
 
 
 def start(setup: Setup) -> State:
-    first = referee(setup.game).new_game(setup.seed, setup.gap, setup.target, setup.reds)
+    ref = referee(setup.game)
+    first = ref.new_game(setup.seed, setup.gap, setup.target, setup.reds, setup.size)
+    if setup.position is not None:
+        first = opening(first, setup.position)
     return first.evolve(turn=setup.breaker) if setup.breaker else first
 
 
@@ -124,7 +146,7 @@ def shot_position(state: State, shot: Shot) -> dict[str, Point]:
     if shot.strike.ball != now.cue:
         why = f"P{state.turn + 1} must strike the {now.cue} ball, not {shot.strike.ball!r}"
         raise RuleError(Refusal.WRONG_CUE_BALL, why)
-    table = referee(state.game).TABLE
+    table = table_of(state)
     balls = dict(state.balls)
     if shot.place is not None:
         if now.ball_in_hand is None:
@@ -165,7 +187,7 @@ def scene(state: State, shot: Shot, balls: dict[str, Point]) -> physics.Scene:
     """The physics scene of a shot, validated by the engine's own parser."""
     return physics.parse_scene(
         {
-            "table": referee(state.game).TABLE.preset,
+            "table": table_of(state).preset,
             "balls": {b: [p[0], p[1]] for b, p in balls.items()},
             "strike": shot.strike.model_dump(),
         }

@@ -28,7 +28,7 @@ from rules.codes import NoteCode
 from rules.events import read_shot
 from rules.inputs import Shot, ShotOptions
 from rules.racks import REDS_FULL, Game, rack
-from rules.spots import POOL_TABLE, Point
+from rules.spots import POOL_TABLE, STANDARD_SIZE, Point, Size
 from rules.state import Decision, State, note, other
 
 GAME = Game.NINEBALL
@@ -38,8 +38,11 @@ FOULS_TO_LOSE = 3
 PUSH_OUT_SHOT = 1
 
 
-def new_game(seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL) -> State:
-    return State(game=GAME, balls=rack(GAME, seed, gap), ball_in_hand="kitchen")
+def new_game(
+    seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL, size: Size = STANDARD_SIZE
+) -> State:
+    balls = rack(GAME, seed, gap, size=size)
+    return State(game=GAME, balls=balls, ball_in_hand="kitchen", size=size)
 
 
 def cue_ball(state: State) -> str:
@@ -77,7 +80,7 @@ def judge(
     notes = [note(NoteCode.PUSH_OUT, "push-out")] if shot.push_out else []
     nine_down = "9" in facts.pocketed
     if nine_down and (fouls or shot.push_out):
-        respotted["9"] = positions["9"] = pool.respot_on_foot_spot(positions)
+        respotted["9"] = positions["9"] = pool.respot_on_foot_spot(positions, state.size)
 
     fouls_now = list(state.foul_streak)
     fouls_now[me] = fouls_now[me] + 1 if fouls else 0

@@ -23,7 +23,7 @@ from rules.aim import ghost, path_clear
 from rules.game import Simulate, scene
 from rules.inputs import PLACE_STEPS, Choice, PlayerInput, Shot, Strike, quantise
 from rules.racks import Game
-from rules.referee import allowed, referee
+from rules.referee import allowed, referee, table_of
 from rules.spots import BAULK_Y, Point, Table, in_region, is_free
 from rules.state import State
 from rules.three_cushion import count_point
@@ -211,7 +211,7 @@ def _plan(state: State, table: Table, balls: dict[str, Point]) -> tuple[Point, A
 
 def pick_table_game(state: State) -> Shot:
     """A shot for a game on a table with pockets (nine-ball, eight-ball, snooker)."""
-    table = referee(state.game).TABLE
+    table = table_of(state)
     balls = dict(state.balls)
     if state.shots == 0 and state.game in BREAK_SPEED:
         apex = min((b for b in balls if b != "cue"), key=lambda b: balls[b][1])
@@ -263,6 +263,6 @@ def pick(state: State, simulate: Simulate = physics.simulate) -> PlayerInput:
     """The picker's next input for the player to act in `state`."""
     if allowed(state).choices:
         return Choice(option="play_on")
-    if not referee(state.game).TABLE.pockets:
+    if not table_of(state).pockets:
         return pick_carom(state, simulate)
     return pick_table_game(state)

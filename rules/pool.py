@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from rules.codes import FoulCode
 from rules.events import ShotFacts
 from rules.inputs import ShotOptions
-from rules.spots import POOL_TABLE, Point, place_near
+from rules.spots import POOL_SIZES, STANDARD_SIZE, Point, place_near
 from rules.state import Decision, Foul, Note, Region, State, award, conclude, foul
 
 POCKETS = ("bottom_left", "bottom_right", "middle_left", "middle_right", "top_left", "top_right")
@@ -62,10 +62,11 @@ def object_balls(balls: Mapping[str, Point]) -> list[str]:
     return [b for b in balls if b != "cue"]
 
 
-def respot_on_foot_spot(positions: dict[str, Point]) -> Point:
-    """Where a respotted ball goes: the foot spot, else frozen behind it on the long string
-    toward the top cushion, else in front of it toward the head (WPA)."""
-    return place_near(POOL_TABLE.foot_spot, ((0.0, 1.0), (0.0, -1.0)), positions, POOL_TABLE)
+def respot_on_foot_spot(positions: dict[str, Point], size: int = STANDARD_SIZE) -> Point:
+    """Where a respotted ball goes on the `size` ft table: the foot spot, else frozen behind
+    it on the long string toward the top cushion, else in front of it toward the head (WPA)."""
+    on = POOL_SIZES[size]
+    return place_near(on.foot_spot, ((0.0, 1.0), (0.0, -1.0)), positions, on)
 
 
 def conclude_rack(

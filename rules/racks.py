@@ -27,7 +27,17 @@ import math
 import random
 from enum import StrEnum
 
-from rules.spots import CAROM_TABLE, CLEARANCE, POOL_TABLE, SNOOKER, SNOOKER_SPOTS, Point
+from rules.spots import (
+    CAROM_TABLE,
+    CLEARANCE,
+    POOL_SIZES,
+    POOL_TABLE,
+    SNOOKER,
+    SNOOKER_SPOTS,
+    STANDARD_SIZE,
+    Point,
+    Table,
+)
 
 
 class Game(StrEnum):
@@ -74,23 +84,23 @@ def _place(ids: list[str], spots: list[Point], gap: float, rng: random.Random):
     return {b: _jitter(p, gap, rng) for b, p in zip(ids, spots, strict=True)}
 
 
-def nineball(seed: int, gap: float = 0.0) -> dict[str, Point]:
+def nineball(seed: int, gap: float = 0.0, table: Table = POOL_TABLE) -> dict[str, Point]:
     rng = random.Random(seed)
-    rows = _triangle(POOL_TABLE.foot_spot, 5, POOL_TABLE.R, gap)
+    rows = _triangle(table.foot_spot, 5, table.R, gap)
     # The diamond is the first three rows of a triangle plus the middle of rows four and five.
     diamond = [*rows[0], *rows[1], *rows[2], rows[3][1], rows[3][2], rows[4][2]]
     apex, middle = diamond[0], diamond[4]
     others = [p for i, p in enumerate(diamond) if i not in (0, 4)]
     ids = [str(n) for n in range(2, 9)]
     rng.shuffle(ids)
-    balls = {"cue": POOL_TABLE.head_spot, "1": apex, "9": _jitter(middle, gap, rng)}
+    balls = {"cue": table.head_spot, "1": apex, "9": _jitter(middle, gap, rng)}
     balls.update(_place(ids, others, gap, rng))
     return balls
 
 
-def eightball(seed: int, gap: float = 0.0) -> dict[str, Point]:
+def eightball(seed: int, gap: float = 0.0, table: Table = POOL_TABLE) -> dict[str, Point]:
     rng = random.Random(seed)
-    rows = _triangle(POOL_TABLE.foot_spot, 5, POOL_TABLE.R, gap)
+    rows = _triangle(table.foot_spot, 5, table.R, gap)
     corners = [rows[4][0], rows[4][4]]
     middle = rows[2][1]
     others = [p for row in rows for p in row if p not in (*corners, middle)]
@@ -101,7 +111,7 @@ def eightball(seed: int, gap: float = 0.0) -> dict[str, Point]:
     rng.shuffle(corner_ids)
     rest = solids + stripes
     rng.shuffle(rest)
-    balls = {"cue": POOL_TABLE.head_spot, "8": _jitter(middle, gap, rng)}
+    balls = {"cue": table.head_spot, "8": _jitter(middle, gap, rng)}
     balls.update(_place(corner_ids, corners, gap, rng))
     # The apex ball stays exactly on the foot spot.
     balls[rest[0]] = others[0]
@@ -144,13 +154,32 @@ RACKS = {
 }
 
 
-def rack(game: Game, seed: int, gap: float = 0.0, reds: int = REDS_FULL) -> dict[str, Point]:
+POOL_GAMES = (Game.NINEBALL, Game.EIGHTBALL)
+
+
+def table(game: Game, size: int = STANDARD_SIZE) -> Table:
+    """The table `game` is played on; `size` (feet: 7, 8 or 9) counts only in pool."""
+    if game in POOL_GAMES:
+        if size not in POOL_SIZES:
+            raise ValueError(f"pool is played on {sorted(POOL_SIZES)} ft tables, not {size!r}")
+        return POOL_SIZES[size]
+    if size != STANDARD_SIZE:
+        raise ValueError("only pool is played on tables of other sizes")
+    return SNOOKER if game is Game.SNOOKER else CAROM_TABLE
+
+
+def rack(
+    game: Game, seed: int, gap: float = 0.0, reds: int = REDS_FULL, size: int = STANDARD_SIZE
+) -> dict[str, Point]:
     """The starting layout of `game` for `seed` (see the module docstring); `reds` counts
-    only in snooker."""
+    only in snooker, `size` only in pool (its rack and head spot scale with the table)."""
     if not (math.isfinite(gap) and 0.0 <= gap <= 0.005):
         raise ValueError(f"rack gap must be between 0 and 0.005 m, got {gap!r}")
+    on = table(game, size)
     if game is Game.SNOOKER:
         if reds not in RED_ROWS:
             raise ValueError(f"snooker is played with {sorted(RED_ROWS)} reds, not {reds!r}")
         return snooker(seed, gap, reds)
+    if game in POOL_GAMES:
+        return RACKS[game](seed, gap, on)
     return RACKS[game](seed, gap)

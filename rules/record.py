@@ -29,6 +29,7 @@ from physics import ENGINE_VERSION
 from rules.codes import Refusal, RuleError
 from rules.game import Setup, Simulate, play, start
 from rules.inputs import PlayerInput
+from rules.spots import STANDARD_SIZE
 from rules.state import Decision, State
 
 #: More inputs than any real game needs: a record this long is refused, not replayed.
@@ -42,6 +43,8 @@ LINK_BYTES, MARK_BYTES = 8, 2
 def hashed_state(state: State) -> Any:
     """The state as plain data for hashing: positions quantised, balls sorted by name."""
     data = state.model_dump(mode="json")
+    if state.size == STANDARD_SIZE:  # the standard table hashes as before sizes existed
+        del data["size"]
     data["balls"] = [
         [b, round(x * POSITION_STEPS), round(y * POSITION_STEPS)]
         for b, (x, y) in sorted(state.balls.items())

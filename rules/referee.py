@@ -14,7 +14,7 @@ from typing import Protocol, runtime_checkable
 import physics
 from rules import eightball, nineball, snooker, three_cushion
 from rules.inputs import Option, Shot, ShotOptions
-from rules.racks import REDS_FULL, Game
+from rules.racks import REDS_FULL, Game, table
 from rules.spots import Point, Table
 from rules.state import Decision, Region, State
 
@@ -23,10 +23,11 @@ from rules.state import Decision, Region, State
 class Referee(Protocol):
     """One game's rules.
 
-    GAME, TABLE: the game refereed and the table it is played on. new_game: the state before
-    the break (`target`: three-cushion's points to win; `reds`: snooker's reds, 6, 10 or 15;
-    each game ignores the other's). cue_ball: the ball the player to shoot must strike.
-    targets: the balls that player may legally hit first from `balls`. options: the
+    GAME, TABLE: the game refereed and its standard table (`table_of` gives a state's own).
+    new_game: the state before the break (`target`: three-cushion's points to win; `reds`:
+    snooker's reds, 6, 10 or 15; `size`: pool's table in feet; each game ignores the others').
+    cue_ball: the ball the player to shoot must strike. targets: the balls that player may
+    legally hit first from `balls`. options: the
     declarations the next shot may carry. judge: the state after a shot (already checked) and
     the decision explaining it, from the position `before` the stroke and the engine's result.
     """
@@ -35,7 +36,7 @@ class Referee(Protocol):
     TABLE: Table
 
     def new_game(
-        self, seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL
+        self, seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL, size: int = 9
     ) -> State: ...
 
     def cue_ball(self, state: State) -> str: ...
@@ -59,6 +60,11 @@ REFEREES: Mapping[Game, Referee] = {
 
 def referee(game: Game) -> Referee:
     return REFEREES[Game(game)]
+
+
+def table_of(state: State) -> Table:
+    """The table a state is played on: its game's, at the state's size (pool)."""
+    return table(state.game, state.size)
 
 
 @dataclass(frozen=True, slots=True)

@@ -58,7 +58,9 @@ NEXT_COLOUR = dict(pairwise(COLOURS))
 MIN_PENALTY, MAX_PENALTY = 4, 7
 
 
-def new_game(seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL) -> State:
+def new_game(
+    seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL, size: int = 9
+) -> State:
     return State(game=GAME, balls=rack(GAME, seed, gap, reds), ball_in_hand="D", on="red")
 
 

@@ -12,11 +12,22 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Literal
 
 from physics.params import CAROM, POOL, SNOOKER
-from physics.tables import NINEBALL, SNOOKER_TABLE, THREE_CUSHION, Pocket, TableSpec
+from physics.tables import (
+    NINEBALL,
+    NINEBALL_7FT,
+    NINEBALL_8FT,
+    SNOOKER_TABLE,
+    THREE_CUSHION,
+    Pocket,
+    TableSpec,
+)
 
 Point = tuple[float, float]
+#: A pool table's size in feet.
+Size = Literal[7, 8, 9]
 
 #: Gap (m) kept between a placed ball and its neighbours: a micrometre, far below what a player
 #: could see, far above floating-point noise.
@@ -41,6 +52,11 @@ class Table:
         return self.spec.l
 
     @property
+    def head_string(self) -> float:
+        """Pool's head string (the kitchen's edge): a quarter of the length from the bottom."""
+        return self.length / 4
+
+    @property
     def head_spot(self) -> Point:
         """Pool's head spot (the carom table's too): centre of the head quarter."""
         return (self.width / 2, self.length / 4)
@@ -56,6 +72,15 @@ def _table(preset: str, spec: TableSpec, R: float) -> Table:
 
 
 POOL_TABLE = _table("nineball", NINEBALL, POOL.R)
+#: The pool tables by size in feet (the playing surface's nominal length); 9 ft is the
+#: standard table the leaderboards rank. Every spot, line and region of a pool table is a
+#: fraction of its length and width, so each size has its own, scaled with the bed.
+POOL_SIZES: dict[int, Table] = {
+    7: _table("nineball_7ft", NINEBALL_7FT, POOL.R),
+    8: _table("nineball_8ft", NINEBALL_8FT, POOL.R),
+    9: POOL_TABLE,
+}
+STANDARD_SIZE = 9
 SNOOKER = _table("snooker", SNOOKER_TABLE, SNOOKER.R)
 CAROM_TABLE = _table("three_cushion", THREE_CUSHION, CAROM.R)
 
@@ -104,7 +129,7 @@ def in_region(p: Point, region: str, table: Table) -> bool:
     if region == "anywhere":
         return True
     if region == "kitchen":
-        return p[1] <= table.length / 4
+        return p[1] <= table.head_string
     if region == "D":
         return p[1] <= BAULK_Y and math.hypot(p[0] - table.width / 2, p[1] - BAULK_Y) <= D_RADIUS
     raise ValueError(f"unknown region {region!r}")

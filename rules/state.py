@@ -14,7 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field
 from rules.codes import FoulCode, NoteCode, RuleError
 from rules.inputs import Option
 from rules.racks import Game
-from rules.spots import Point
+from rules.spots import STANDARD_SIZE, Point, Size
 
 __all__ = ["Decision", "Foul", "Group", "Note", "Region", "RuleError", "State"]
 
@@ -59,7 +59,8 @@ class State(BaseModel):
     Game-specific: groups (eight-ball, per player); on (snooker's ball on: "red", "colour" or
     a colour's name); free_ball (snooker: the player to shoot may nominate a free ball);
     retake (snooker: the state before a foul-and-miss, restored on "replace");
-    target (three-cushion: points to win).
+    target (three-cushion: points to win); size (pool: the table's size in feet, which
+    places its spots, lines and ball-in-hand regions).
     """
 
     model_config = ConfigDict(frozen=True, extra="forbid")
@@ -81,6 +82,7 @@ class State(BaseModel):
     free_ball: bool = False
     retake: State | None = None
     target: int = 0
+    size: Size = STANDARD_SIZE
 
     def evolve(self, **changes: Any) -> State:
         """This state with `changes`, validated (strictly: no "1" for 1, no list for a pair):

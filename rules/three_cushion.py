@@ -35,7 +35,9 @@ CUSHIONS_NEEDED = 3
 DEFAULT_TARGET = 15
 
 
-def new_game(seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL) -> State:
+def new_game(
+    seed: int, gap: float = 0.0, target: int = 0, reds: int = REDS_FULL, size: int = 9
+) -> State:
     return State(
         game=GAME,
         balls=rack(GAME, seed, gap),

@@ -32,7 +32,7 @@ from rules.codes import RuleError
 from rules.game import Setup, check, play, start
 from rules.inputs import Shot
 from rules.racks import Game
-from rules.referee import referee
+from rules.referee import table_of
 from rules.state import Decision, State
 
 #: Normal quantile of a two-sided 95% interval.
@@ -119,7 +119,7 @@ def play_game(
 ) -> GameResult:
     """One game; `seats[k]` and `choosers[k]` play seat k (seat 0 breaks)."""
     state = start(setup)
-    R = referee(setup.game).TABLE.R
+    R = table_of(state).R
     visits: list[_Visit] = [_Visit(state.turn)]
     turns: list[Turn] = []
     for n in range(max_inputs):

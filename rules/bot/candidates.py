@@ -38,7 +38,7 @@ from rules.codes import RuleError
 from rules.game import check
 from rules.inputs import Shot, Strike
 from rules.racks import Game
-from rules.referee import Allowed, allowed, referee
+from rules.referee import Allowed, allowed, referee, table_of
 from rules.spots import Point, Table
 from rules.state import State
 
@@ -166,7 +166,7 @@ def pot_speed(p: Pot) -> float:
 def spots(state: State) -> list[Spot]:
     """Where the cue ball may stand: where it lies, and every ball-in-hand place considered."""
     now = allowed(state)
-    table = referee(state.game).TABLE
+    table = table_of(state)
     others = {b: p for b, p in state.balls.items() if b != now.cue}
     found = []
     if now.cue in state.balls:
@@ -285,12 +285,12 @@ def push_out_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
 def break_candidates(state: State) -> list[Candidate]:
     """Pool's break: from a few places on the head string, hard at the apex ball."""
     now = allowed(state)
-    table = referee(state.game).TABLE
+    table = table_of(state)
     others = {b: p for b, p in state.balls.items() if b != now.cue}
     apex = min(others, key=lambda b: (others[b][1], b))
     out = []
     for f in BREAK_PLACES:
-        place = (round(table.width * f, 4), round(table.length / 4, 4))
+        place = (round(table.width * f, 4), round(table.head_string, 4))
         spot = Spot(now, table, {**others, now.cue: place}, place)
         for v in BREAK_SPEEDS[state.game]:
             strike = {"speed": v, "heading": heading_to(place, others[apex])}
@@ -302,7 +302,7 @@ def carom_candidates(state: State, budget: int) -> list[Candidate]:
     """Three-cushion: evenly spaced headings within FAN_WIDTH of each object ball, as many as
     `budget` candidates allow (with every side spin and speed at each)."""
     now = allowed(state)
-    table = referee(state.game).TABLE
+    table = table_of(state)
     spot = Spot(now, table, dict(state.balls), None)
     per_heading = len(FAN_SIDES) * len(FAN_SPEEDS) * len(now.targets)
     n = max(1, (budget // per_heading - 1) // 2)

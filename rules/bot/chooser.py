@@ -33,7 +33,7 @@ from rules.bot.value import choice_values
 from rules.game import Simulate
 from rules.inputs import OPTIONS, Choice, PlayerInput
 from rules.pickers import pick
-from rules.referee import referee
+from rules.referee import table_of
 from rules.state import State
 
 
@@ -96,7 +96,7 @@ class Bot:
             state, self.level, self.seed, self.plan, self.evaluator, self.simulate
         )
         draw = draws(self.seed, 1, "hand", state_key(state))[0]
-        return perturb(shot, self.hand, draw, referee(state.game).TABLE.R)
+        return perturb(shot, self.hand, draw, table_of(state).R)
 
     def close(self) -> None:
         self.evaluator.close()

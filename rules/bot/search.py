@@ -39,7 +39,7 @@ from rules.bot.noise import Draw, Noise, draws, perturb
 from rules.bot.value import WIN, outcome_value
 from rules.game import Simulate, play, scene, shot_position
 from rules.inputs import Shot
-from rules.referee import referee
+from rules.referee import table_of
 from rules.state import State
 
 #: The error draw of a shot played as meant.
@@ -61,7 +61,7 @@ class Task:
 
 def run_task(task: Task, simulate: Simulate = physics.simulate) -> tuple[float, ...]:
     """The value of each play of a task; a shot the engine fails on is valued as a loss."""
-    R = referee(task.state.game).TABLE.R
+    R = table_of(task.state).R
     values = []
     for d in task.draws:
         shot = perturb(task.shot, task.noise, d, R)
@@ -133,7 +133,7 @@ def throw_corrected(state: State, c: Candidate, simulate: Simulate) -> Candidate
     error = math.remainder(moved - want, math.tau)
     if abs(math.degrees(error)) > MAX_THROW:
         return c
-    R = referee(state.game).TABLE.R
+    R = table_of(state).R
     turn = math.degrees(error * 2 * R * pot.cos_cut / pot.d1)
     strike = c.shot.strike.model_validate(
         {**dict(c.shot.strike), "heading": c.shot.strike.heading + turn}

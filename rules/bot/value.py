@@ -21,7 +21,7 @@ from rules.bot.placements import placements
 from rules.game import Outcome, choose
 from rules.inputs import OPTIONS, Choice
 from rules.racks import Game
-from rules.referee import referee
+from rules.referee import referee, table_of
 from rules.snooker import value as snooker_value
 from rules.spots import Point, Table
 from rules.state import State, other
@@ -60,7 +60,7 @@ def _best_from(state: State, table: Table, cue: Point, balls: dict[str, Point], 
 
 def position_value(state: State, noise: Noise) -> float:
     """What `state` is worth to the player to act in it (no choice pending)."""
-    table = referee(state.game).TABLE
+    table = table_of(state)
     if not table.pockets:
         return 0.0
     if not state.ball_in_hand:

@@ -226,6 +226,10 @@ class TableActor:
                 return await self._change(
                     lambda r: tables.offer_rematch(r, player), self._ensure_rematch
                 )
+            case commands.Rerack(player, position):
+                return await self._change(lambda r: tables.rerack(r, player, position))
+            case commands.Retake(player):
+                return await self._change(lambda r: tables.retake(r, player))
             case commands.Heartbeat(player):
                 return await self._heartbeat(player)
             case commands.QuickMessage(player, message):

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from server.game.refereeing import Position
 from server.protocol.ids import QuickText
 from server.protocol.models import AimRequest, Intent, PlayerInfo
 
@@ -62,6 +63,21 @@ class Rematch:
 
 
 @dataclass(frozen=True)
+class Rerack:
+    """Practice: start the next rack, from a set-up position or (None) the game's own rack."""
+
+    player: PlayerInfo
+    position: Position | None = None
+
+
+@dataclass(frozen=True)
+class Retake:
+    """Practice: re-rack from the balls as they stood when the last shot struck."""
+
+    player: PlayerInfo
+
+
+@dataclass(frozen=True)
 class Heartbeat:
     """A seated player is still here."""
 
@@ -96,7 +112,19 @@ class BotMove:
 
 
 #: What the players and spectators may send (each through an HTTP handler).
-ClientCommand = Play | Join | Leave | Resign | Claim | Rematch | Heartbeat | QuickMessage | Aim
+ClientCommand = (
+    Play
+    | Join
+    | Leave
+    | Resign
+    | Claim
+    | Rematch
+    | Rerack
+    | Retake
+    | Heartbeat
+    | QuickMessage
+    | Aim
+)
 #: What the server makes itself.
 ServerCommand = ClockExpiry | BotMove
 Command = ClientCommand | ServerCommand

@@ -18,7 +18,9 @@ One break, one entry: a break is identified by what was played, the position its
 started from and the visit's inputs (`server.game.visits`), not by the record it came in, so
 a record cut after the best visit, extended by an input, or (three-cushion) replayed under
 another seed is the same break and refused as a duplicate; only the game's standard rack
-counts (a claim whose setup has a rack gap or another three-cushion target is refused).
+counts (a claim whose setup has a rack gap, another three-cushion target, fewer reds or a
+smaller pool table is refused, and one from a set-up position with its own code,
+`set_up_position`: a practice position is never ranked).
 
 Claims cost a worker seconds, so the cheap refusals come first (server/http/api.py,
 `claim_break`, then here): the token; the claim's rate per player (`LIMITS["claim"]`,
@@ -53,7 +55,7 @@ from server.game.replays import rack_replay, record_refused, replay_url
 from server.game.tables import TableRecord
 from server.game.workers import WorkerPool
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import new_replay_id
+from server.protocol.ids import SIZED_GAMES, new_replay_id
 from server.protocol.models import (
     BreakEntry,
     ClaimRequest,
@@ -62,6 +64,7 @@ from server.protocol.models import (
     LeaderboardMessage,
     Mode,
     PlayerInfo,
+    RankedOptions,
     ReplayView,
     Source,
     TableOptions,
@@ -80,11 +83,26 @@ KNOWN_RECORDS = 4096
 TOP, MOST = 20, 100
 
 
-def ranked(options: TableOptions) -> bool:
+def ranked(options: TableOptions, position: refereeing.Position | None = None) -> bool:
     """Whether a table's breaks are ranked: the boards rank each game as the rules set it out
-    (snooker with 15 reds, three-cushion to 15 points); a break at other options keeps its
-    replay but is not compared with those."""
-    return options.reds == refereeing.REDS_FULL and options.target in (0, refereeing.DEFAULT_TARGET)
+    (snooker with 15 reds, three-cushion to 15 points, pool on the 9 ft table) from the game's
+    own rack; a break at other options or from a set-up `position` (practice) keeps its replay
+    but is not compared with those."""
+    standard = (
+        options.reds == refereeing.REDS_FULL
+        and options.target in (0, refereeing.DEFAULT_TARGET)
+        and options.size == refereeing.STANDARD_SIZE
+    )
+    return standard and position is None
+
+
+def ranked_options(game: str) -> RankedOptions:
+    """The options a game's board ranks (`ranked`): the standard ones, from the game's rack."""
+    return RankedOptions(
+        reds=refereeing.REDS_FULL if game == "snooker" else None,
+        target=refereeing.DEFAULT_TARGET if game == "three_cushion" else None,
+        size=refereeing.STANDARD_SIZE if game in SIZED_GAMES else None,
+    )
 
 
 class Breaks:
@@ -104,7 +122,7 @@ class Breaks:
 
     async def top(self, game: str, limit: int = TOP) -> Leaderboard:
         breaks = await self._storage.top_breaks(game, min(limit, MOST))
-        return Leaderboard(game=game, breaks=breaks)
+        return Leaderboard(game=game, ranks=ranked_options(game), breaks=breaks)
 
     async def _announce(self, game: str) -> None:
         top = await self._storage.top_breaks(game, TOP)
@@ -120,22 +138,12 @@ class Breaks:
 
         played: each input of the rack that was played (void ones left out), with the state it
         led to (the last one's `best` is each player's best break of the rack)."""
-        options = record.options
-        setup = refereeing.rack_setup(
-            record.game,
-            record.seed + record.rack,
-            record.breaker,
-            reds=options.reds,
-            target=options.target,
-        )
+        setup = record.setup
         game_record = refereeing.rack_record(setup, played)
         replay, best = rack_replay(record, game_record, played[-1][1])
-        opening = refereeing.new_rack(
-            record.game, setup.seed, record.breaker, reds=options.reds, target=options.target
-        )
-        keys = visits.break_keys(record.game, opening, played)
+        keys = visits.break_keys(record.game, refereeing.start(setup), played)
         await self._storage.add_replay(replay)
-        if not ranked(options):
+        if not ranked(record.options, record.position):
             return replay
         source = Source.PRACTICE if record.mode is Mode.PRACTICE else Source.MATCH
         if record.mode is Mode.PRACTICE:  # one person played every visit
@@ -195,10 +203,17 @@ class Breaks:
             raise ServiceError(
                 ErrorCode.CLAIM_MISMATCH, f"the record is a {setup.game} game, not {claim.game}"
             )
-        if setup.gap != 0.0 or setup.target != 0:
+        if setup.set_up:
+            raise ServiceError(
+                ErrorCode.SET_UP_POSITION,
+                "the record starts from a set-up position: its breaks are not ranked",
+            )
+        standard = setup.reds == refereeing.REDS_FULL and setup.size == refereeing.STANDARD_SIZE
+        if setup.gap != 0.0 or setup.target != 0 or not standard:
             raise ServiceError(
                 ErrorCode.CLAIM_MISMATCH,
-                "only the game's standard rack counts (no gap, the default target)",
+                "only the game's standard rack counts (no gap, the default target, 15 reds, "
+                "the 9 ft table)",
             )
         record_json = claim.record.model_dump_json().encode()
         verified = await self._verified(record_json, player.id, address)

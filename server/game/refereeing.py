@@ -10,25 +10,34 @@ they return is picklable and already in wire form, so the event loop only stores
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
 import physics
 from rules.bot.chooser import chooser
-from rules.codes import RuleError
+from rules.codes import Refusal, RuleError
+from rules.compact import decode_position, encode_position
 from rules.game import Setup, play, start
 from rules.game import check as rules_check
 from rules.inputs import Choice, Option, PlayerInput, Shot, accept
+from rules.positions import ball_names, check_position, check_start
+from rules.positions import presets as named_positions
 from rules.racks import REDS_FULL
 from rules.racks import Game as GameName
 from rules.record import GameRecord, replay
-from rules.referee import allowed
+from rules.referee import allowed, table_of
 from rules.referee import referee as referee_of
-from rules.spots import in_region, is_free
+from rules.spots import STANDARD_SIZE, Point, in_region, is_free
 from rules.state import Decision, Region, State
 from rules.three_cushion import DEFAULT_TARGET
 from server.game import visits
 from server.protocol.trajectories import Trajectory, wire_trajectory
+
+#: The rules' code of a set-up position that cannot start a rack.
+BAD_POSITION = Refusal.BAD_POSITION.value
+#: A set-up position: ball id -> where it lies.
+Position = dict[str, Point]
 
 #: The seed of the server's bots: their noise draws are keyed by it and by the state.
 BOT_SEED = 0
@@ -36,9 +45,11 @@ BOT_SEED = 0
 TIMEOUT_SPEED = 0.05
 
 __all__ = [
+    "BAD_POSITION",
     "DEFAULT_TARGET",
     "NOT_REPLAYED",
     "REDS_FULL",
+    "STANDARD_SIZE",
     "Choice",
     "Decision",
     "GameName",
@@ -46,20 +57,29 @@ __all__ = [
     "Next",
     "Option",
     "PlayerInput",
+    "Position",
     "Refereed",
     "Region",
     "Replayed",
     "RuleError",
+    "Setup",
     "Shot",
     "State",
+    "ball_set",
     "bot_input",
     "check",
+    "checked_position",
     "constraints",
     "new_rack",
     "next_breaker",
+    "presets",
     "referee",
     "replay_record",
     "rule_code",
+    "share_code",
+    "shared",
+    "shot_position",
+    "start",
     "timeout_input",
     "verify",
 ]
@@ -87,19 +107,81 @@ def next_breaker(game: GameName, breaker: int) -> int:
 
 
 def rack_setup(
-    game: GameName, seed: int, breaker: int, *, reds: int = REDS_FULL, target: int = 0
+    game: GameName,
+    seed: int,
+    breaker: int,
+    *,
+    reds: int = REDS_FULL,
+    target: int = 0,
+    size: int = STANDARD_SIZE,
+    position: Position | None = None,
 ) -> Setup:
     """The rules' setup of a rack whose break goes to seat `breaker` (seats are the referee's
-    players, and a setup names its breaker), with the table's snooker reds and three-cushion
-    target."""
-    return Setup(game=game, seed=seed, breaker=breaker, reds=reds, target=target)
+    players, and a setup names its breaker), with the table's snooker reds, three-cushion
+    target and pool table size, from a set-up `position` (checked: `checked_position`) or
+    the game's own rack."""
+    return Setup(
+        game=game,
+        seed=seed,
+        breaker=breaker,
+        reds=reds,
+        target=target,
+        size=size,
+        position=position,
+    )
 
 
-def new_rack(
-    game: GameName, seed: int, breaker: int, *, reds: int = REDS_FULL, target: int = 0
-) -> State:
-    """The opening position of a rack, with `breaker` (a seat) to play the break."""
-    return start(rack_setup(game, seed, breaker, reds=reds, target=target))
+def new_rack(game: GameName, seed: int, breaker: int, **options: object) -> State:
+    """The opening position of a rack, with `breaker` (a seat) to play the break (`options`:
+    those of `rack_setup`)."""
+    return start(rack_setup(game, seed, breaker, **options))  # type: ignore[arg-type]
+
+
+def checked_position(
+    game: GameName,
+    position: Position,
+    *,
+    reds: int = REDS_FULL,
+    size: int = STANDARD_SIZE,
+    left: bool = False,
+) -> Position:
+    """A set-up position as the rules start it: a player's, on the bed and apart, in canonical
+    steps; or (`left`) one a shot left, where the engine lets balls rest, to the bit
+    (`rules.positions`). RuleError (BAD_POSITION) naming what is wrong when it cannot start a
+    rack of `game` at these options."""
+    check = check_start if left else check_position
+    return check(game, position, size, reds)
+
+
+@functools.cache
+def ball_set(game: GameName, reds: int = REDS_FULL) -> tuple[str, ...]:
+    """The balls a set-up position of `game` (snooker with `reds`) may hold."""
+    return ball_names(game, reds)
+
+
+@functools.cache
+def presets(game: GameName, size: int = STANDARD_SIZE) -> dict[str, Position]:
+    """The named practice positions of `game` on its `size` table (`rules.positions`)."""
+    return named_positions(game, size)
+
+
+def shot_position(state: State, action: PlayerInput) -> Position:
+    """The balls as they stood when `action` (a shot played in `state`) struck: the table and
+    any cue ball placed in hand; the balls of `state` for a choice."""
+    balls = dict(state.balls)
+    if isinstance(action, Shot) and action.place is not None:
+        balls[allowed(state).cue] = action.place
+    return balls
+
+
+def share_code(setup: Setup) -> str:
+    """The compact share-link code of a setup's position (`rules.compact`)."""
+    return encode_position(setup)
+
+
+def shared(code: str) -> Setup:
+    """The setup of a shared position's code; RuleError (MALFORMED, BAD_POSITION) otherwise."""
+    return decode_position(code)
 
 
 def canonical(action: PlayerInput) -> PlayerInput:
@@ -176,7 +258,7 @@ def timeout_input(state: State) -> PlayerInput:
     if state.pending:
         return Choice(option=state.pending[0])
     referee_ = referee_of(state.game)
-    table, cue = referee_.TABLE, referee_.cue_ball(state)
+    table, cue = table_of(state), referee_.cue_ball(state)
     others = {ball: p for ball, p in state.balls.items() if ball != cue}
     at, place = state.balls.get(cue), None
     if at is None:

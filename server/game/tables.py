@@ -13,7 +13,7 @@ import time
 from pydantic import BaseModel, ConfigDict, Field
 
 from server.game import refereeing
-from server.game.refereeing import GameName, PlayerInput, State
+from server.game.refereeing import GameName, PlayerInput, Position, State
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import (
     BOT_LEVELS,
@@ -94,6 +94,14 @@ class TableRecord(BaseModel):
         default=None, description="unix time both seats were taken (presence counts from it)"
     )
     updated: float = Field(default=0.0, description="unix time of the last stored change")
+    position: Position | None = Field(
+        default=None,
+        description="practice: the set-up position the racks start from (None: the game's rack)",
+    )
+    retake: Position | None = Field(
+        default=None,
+        description="practice: the balls as they stood when the last shot struck (to retake it)",
+    )
 
     @property
     def channel(self) -> str:
@@ -108,6 +116,13 @@ class TableRecord(BaseModel):
         """When the live store may drop this table (storage invariant 12)."""
         keep = KEEP_FINISHED if self.finished else KEEP_IDLE
         return max(self.created, self.updated) + keep
+
+    @property
+    def setup(self) -> refereeing.Setup:
+        """The rules' setup of the rack being played (`rack_setup`)."""
+        return rack_setup(
+            self.game, self.options, self.seed + self.rack, self.breaker, self.position
+        )
 
     @property
     def listed(self) -> bool:
@@ -128,21 +143,60 @@ def chooser_of(bot: PlayerInfo) -> str:
     return bot.id.removeprefix("bot:")
 
 
+def rack_setup(
+    game: GameName,
+    options: TableOptions,
+    seed: int,
+    breaker: int,
+    position: refereeing.Position | None = None,
+) -> refereeing.Setup:
+    """The rules' setup of a rack of a table with these options (seed: the table's seed plus
+    the rack's number), from a set-up position or the game's own rack."""
+    return refereeing.rack_setup(
+        game,
+        seed,
+        breaker,
+        reds=options.reds,
+        target=options.target,
+        size=options.size,
+        position=position,
+    )
+
+
+def set_up(
+    game: GameName, options: TableOptions, position: Position, left: bool = False
+) -> Position:
+    """A set-up position checked for a table of `game` at `options` (`left`: by a shot, as
+    `refereeing.checked_position` says); BAD_POSITION saying what is wrong otherwise (nothing
+    is stored)."""
+    try:
+        return refereeing.checked_position(
+            game, position, reds=options.reds, size=options.size, left=left
+        )
+    except refereeing.RuleError as error:
+        raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
+
+
 def new_table(table_id: str, create: TableCreate, creator: PlayerInfo, seed: int) -> TableRecord:
-    """A table as created: practice and bot tables play at once, a match waits for a player."""
+    """A table as created: practice and bot tables play at once, a match waits for a player.
+    A practice table may start from a set-up position (BAD_POSITION when it cannot)."""
     second = bot_player(create.bot) if create.mode is Mode.BOT else None
     status = Status.OPEN if create.mode is Mode.MATCH else Status.PLAYING
+    options = create.options()
+    position = None if create.position is None else set_up(create.game, options, create.position)
     now = time.time()
+    first = rack_setup(create.game, options, seed + 1, 0, position)
     record = TableRecord(
         id=table_id,
         game=create.game,
         mode=create.mode,
-        options=create.options(),
+        options=options,
         bot=create.bot if create.mode is Mode.BOT else None,
         seats=(creator, second),
         status=status,
         seed=seed,
-        state=refereeing.new_rack(create.game, seed + 1, 0, reds=create.reds, target=create.target),
+        state=refereeing.start(first),
+        position=position,
         created=now,
         started=now if status is Status.PLAYING else None,
     )
@@ -232,6 +286,47 @@ def rematch_table(record: TableRecord, seed: int) -> TableRecord:
     assert first is not None and second is not None
     create = TableCreate(game=record.game, **record.options.model_dump())
     return join(new_table(record.rematch_table, create, first, seed), second)
+
+
+def practising(record: TableRecord, player: PlayerInfo) -> None:
+    """FORBIDDEN unless `player` sits here, WRONG_PHASE unless this is a practice table under
+    way (the actor settles a pending input before any change, so none is being played)."""
+    seated(record, player)
+    if record.mode is not Mode.PRACTICE or record.status is not Status.PLAYING:
+        raise ServiceError(ErrorCode.WRONG_PHASE, "only a practice table under way is re-racked")
+
+
+def rerack(
+    record: TableRecord, player: PlayerInfo, position: Position | None = None, left: bool = False
+) -> TableRecord:
+    """The practice table's next rack, from a set-up `position` (checked, BAD_POSITION; `left`:
+    by the last shot) or, without one, the game's own rack; the rack under way is dropped
+    unrecorded."""
+    practising(record, player)
+    if position is not None:
+        position = set_up(record.game, record.options, position, left)
+    rack = record.rack + 1
+    setup = rack_setup(record.game, record.options, record.seed + rack, 0, position)
+    return bump(
+        record,
+        rack=rack,
+        breaker=0,
+        position=position,
+        retake=None,
+        state=refereeing.start(setup),
+        last_outcome=None,
+    )
+
+
+def retake(record: TableRecord, player: PlayerInfo) -> TableRecord:
+    """The practice table re-racked from the balls as they stood when its last shot struck
+    (the cue ball where it was placed), so the shot can be taken again; WRONG_PHASE when no
+    shot was played since the table was created or re-racked."""
+    practising(record, player)
+    if record.retake is None:
+        raise ServiceError(ErrorCode.WRONG_PHASE, "no shot to take again yet")
+    after = rerack(record, player, record.retake, left=True)
+    return after.model_copy(update={"retake": record.retake})  # and again, as often as wanted
 
 
 def bump(record: TableRecord, **changes: object) -> TableRecord:
@@ -359,7 +454,22 @@ def view(
         replays=list(record.replays),
         rematch=record.rematch,
         rematch_table=record.rematch_table,
+        position=record.position,
+        retake=record.retake is not None,
+        **practice_aids(record),
     )
+
+
+def practice_aids(record: TableRecord) -> dict[str, object]:
+    """What a practice table's view adds for setting up positions: the balls a position may
+    hold and the game's named positions at the table's size (nothing at other tables)."""
+    if record.mode is not Mode.PRACTICE:
+        return {}
+    options = record.options
+    return {
+        "ball_set": list(refereeing.ball_set(record.game, options.reds)),
+        "presets": refereeing.presets(record.game, options.size),
+    }
 
 
 def played(
@@ -374,6 +484,9 @@ def played(
     next rack is racked at once with the break alternating (practice tables rack forever).
     """
     state, rack, breaker = result.state, record.rack, record.breaker
+    taken = record.retake
+    if record.mode is Mode.PRACTICE and isinstance(entry.input, refereeing.Shot):
+        taken = refereeing.shot_position(record.state, entry.input)
     racks_won, status, winner = record.racks_won, record.status, None
     if state.over:
         if record.mode is not Mode.PRACTICE and state.winner is not None:
@@ -386,10 +499,10 @@ def played(
             rack = rack + 1
             practice = record.mode is Mode.PRACTICE
             breaker = 0 if practice else refereeing.next_breaker(record.game, breaker)
-            options = record.options
-            state = refereeing.new_rack(
-                record.game, record.seed + rack, breaker, reds=options.reds, target=options.target
+            setup = rack_setup(
+                record.game, record.options, record.seed + rack, breaker, record.position
             )
+            state = refereeing.start(setup)
     after = bump(
         record,
         state=state,
@@ -401,6 +514,7 @@ def played(
         ended=Ending.RACKS if status is Status.OVER else None,
         replays=record.replays if replay is None else (*record.replays, replay),
         pending=None,
+        retake=taken,
     )
     outcome = OutcomeMessage(
         table=record.id,

@@ -20,7 +20,7 @@ from pydantic import BaseModel, ValidationError
 from redis.exceptions import RedisError
 
 from physics.scene import unique_keys
-from server.game import commands, tables
+from server.game import commands, positions, tables
 from server.game.diagrams import SHIPPED, real_shot_list
 from server.game.lobby import new_seed
 from server.game.profiles import bots, named, profile, rating_view
@@ -52,12 +52,15 @@ from server.protocol.models import (
     PlayerProfile,
     PlayerRatings,
     PlayerToken,
+    PositionShare,
     PresenceMessage,
     QuickMessageRequest,
     QuickRequest,
     QuickStatus,
+    RackRequest,
     ReplayShots,
     ReplayView,
+    SharedPosition,
     TableCreate,
     TableList,
     TableView,
@@ -74,6 +77,7 @@ PLAYER_ID = f"{{player:{ids.PLAYER_ID_CORE}}}"
 REPLAY_ID = f"{{replay:{ids.REPLAY_ID_CORE}}}"
 CHALLENGE_ID = f"{{challenge:{ids.CHALLENGE_ID_CORE}}}"
 REAL_SHOT_ID = f"{{shot:{ids.REAL_SHOT_ID_CORE}}}"
+POSITION_CODE = f"{{code:{ids.POSITION_CODE_CORE}}}"
 
 M = TypeVar("M", bound=BaseModel)
 Handler = Callable[[web.Request], Awaitable[web.StreamResponse]]
@@ -282,6 +286,28 @@ async def rematch(request: web.Request) -> web.Response:
     return await _seat_command(request, commands.Rematch)
 
 
+async def rack(request: web.Request) -> web.Response:
+    """Practice: the next rack, from a set-up position or the game's own rack."""
+    player = await player_of(request)
+    body = await parse(request, RackRequest)
+    after = await _ask(request, commands.Rerack(player, body.position))
+    assert isinstance(after, TableRecord)
+    return answer(await full_view(service_of(request), after))
+
+
+async def retake(request: web.Request) -> web.Response:
+    return await _seat_command(request, commands.Retake)
+
+
+# ----- shared positions -------------------------------------------------------------------------
+async def share_position(request: web.Request) -> web.Response:
+    return answer(positions.share(await parse(request, PositionShare)))
+
+
+async def open_position(request: web.Request) -> web.Response:
+    return answer(positions.open_link(request.match_info["code"]))
+
+
 async def intent(request: web.Request) -> web.Response:
     player = await player_of(request)
     body = await parse(request, Intent)
@@ -479,6 +505,16 @@ ROUTES: tuple[Route, ...] = (
           {200: TableView}, refusals=_TABLE_REFUSALS),
     Route("POST", f"{_T}/rematch", rematch, "Offer or accept a rematch", {200: TableView},
           refusals=_TABLE_REFUSALS),
+    Route("POST", f"{_T}/rack", rack, "Practice: re-rack, or set up a position",
+          {200: TableView}, RackRequest, refusals=(*_TABLE_REFUSALS, ErrorCode.BAD_POSITION)),
+    Route("POST", f"{_T}/retake", retake, "Practice: take the last shot again",
+          {200: TableView}, refusals=_TABLE_REFUSALS),
+    Route("POST", "/api/positions", share_position, "A set-up position's share link",
+          {200: SharedPosition}, PositionShare, auth=False,
+          refusals=(ErrorCode.BAD_POSITION, ErrorCode.BAD_REQUEST)),
+    Route("GET", f"/api/positions/{POSITION_CODE}", open_position,
+          "What a shared position sets up", {200: SharedPosition}, auth=False,
+          refusals=(ErrorCode.BAD_POSITION, ErrorCode.BAD_REQUEST, ErrorCode.NOT_FOUND)),
     Route("POST", f"{_T}/heartbeat", heartbeat, "I am still here", {200: PresenceMessage},
           refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/messages", quick_message, "Send a quick message", {201: ChatMessage},

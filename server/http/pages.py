@@ -21,9 +21,9 @@ from aiohttp import web
 from pydantic import BaseModel, ConfigDict
 
 from rules.racks import Game
-from rules.referee import referee
-from rules.spots import BAULK_Y, D_RADIUS, SNOOKER_SPOTS, Point, Table
-from server.protocol.ids import GAMES
+from rules.racks import table as rules_table
+from rules.spots import BAULK_Y, D_RADIUS, SNOOKER_SPOTS, STANDARD_SIZE, Point, Table
+from server.protocol.ids import GAMES, TABLE_SIZES
 
 #: Where `npm run build` writes the client.
 DIST = Path(__file__).resolve().parents[2] / "web" / "dist"  # server/http/ -> the root
@@ -72,7 +72,9 @@ class TableGeometry(BaseModel):
 
     spots: the marked spots by name (pool's head and foot spots, snooker's colour spots, the
     carom spots). baulk_y / d_radius: snooker's baulk line and D, None on the other tables.
-    head_string_y: pool's head string (the kitchen's edge), None elsewhere.
+    head_string_y: pool's head string (the kitchen's edge), None elsewhere. size: the table's
+    size in feet (pool; the others are at the standard 9). sizes: pool's other table sizes,
+    each drawn as its own table (the client picks a table's by its `options.size`).
     """
 
     model_config = ConfigDict(frozen=True)
@@ -89,11 +91,14 @@ class TableGeometry(BaseModel):
     baulk_y: float | None = None
     d_radius: float | None = None
     head_string_y: float | None = None
+    size: int = STANDARD_SIZE
+    sizes: dict[int, TableGeometry] = {}
 
 
-def table_geometry(game: str) -> TableGeometry:
-    """The drawable table of `game`, built from the referee's table and the engine's geometry."""
-    table: Table = referee(Game(game)).TABLE
+def table_geometry(game: str, size: int = STANDARD_SIZE) -> TableGeometry:
+    """The drawable table of `game` at `size`, built from the rules' table and the engine's
+    geometry; at the standard size with the game's other sizes beside it."""
+    table: Table = rules_table(Game(game), size)
     geometry = table.spec.geometry()
     snooker = table.preset == "snooker"
     pool = game in ("nineball", "eightball")
@@ -114,7 +119,13 @@ def table_geometry(game: str) -> TableGeometry:
         spots=spots,
         baulk_y=BAULK_Y if snooker else None,
         d_radius=D_RADIUS if snooker else None,
-        head_string_y=table.length / 4 if pool else None,
+        head_string_y=table.head_string if pool else None,
+        size=size,
+        sizes={
+            other: table_geometry(game, other)
+            for other in (TABLE_SIZES if pool and size == STANDARD_SIZE else ())
+            if other != size
+        },
     )
 
 

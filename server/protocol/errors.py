@@ -24,6 +24,8 @@ class ErrorCode(StrEnum):
     WRONG_PHASE = "wrong_phase"
     ILLEGAL_INPUT = "illegal_input"
     CLAIM_MISMATCH = "claim_mismatch"
+    BAD_POSITION = "bad_position"
+    SET_UP_POSITION = "set_up_position"
     DUPLICATE = "duplicate"
     TOO_MANY_TABLES = "too_many_tables"
     RATE_LIMITED = "rate_limited"
@@ -45,6 +47,8 @@ STATUS: dict[ErrorCode, int] = {
     ErrorCode.WRONG_PHASE: 409,
     ErrorCode.ILLEGAL_INPUT: 422,
     ErrorCode.CLAIM_MISMATCH: 422,
+    ErrorCode.BAD_POSITION: 422,
+    ErrorCode.SET_UP_POSITION: 422,
     ErrorCode.DUPLICATE: 409,
     ErrorCode.TOO_MANY_TABLES: 409,
     ErrorCode.RATE_LIMITED: 429,

@@ -13,7 +13,8 @@ import hashlib
 import secrets
 from enum import StrEnum
 
-from rules.racks import Game
+from rules.racks import POOL_GAMES, Game
+from rules.spots import POOL_SIZES, STANDARD_SIZE
 from rules.three_cushion import DEFAULT_TARGET
 
 #: The format version of channel messages; bumped when a client must change to read them.
@@ -115,6 +116,17 @@ def new_replay_id() -> str:
     return secrets.token_hex(12)
 
 
+#: A shared position's code (rules.compact's position link: base64url), and the query
+#: parameter of the practice page that sets it up.
+POSITION_CODE_CORE = r"[A-Za-z0-9_-]{1,400}"
+POSITION_PARAM = "position"
+
+
+def practice_url(game: str, code: str) -> str:
+    """The practice page that sets up a shared position."""
+    return f"/practice/{game}?{POSITION_PARAM}={code}"
+
+
 def derived_table_id(purpose: str, source_id: str) -> str:
     """The id of the one table made for `purpose` from `source_id` (a match's rematch, an
     accepted challenge): every replica computes the same, and storage refuses a second table
@@ -171,6 +183,11 @@ THREE_CUSHION_TARGETS = (5, 7, 10, 15, 25, 40)
 SHOT_CLOCKS = (0, 30, 60, 120)
 #: Rated matches whose ratings a profile's graph shows (the player's most recent, every game).
 PROFILE_HISTORY = 200
+#: Pool's table sizes in feet (the games played on them), and the standard one, which the
+#: leaderboards rank and every other game is played at.
+TABLE_SIZES: tuple[int, ...] = tuple(sorted(POOL_SIZES))
+TABLE_SIZE = STANDARD_SIZE
+SIZED_GAMES: tuple[str, ...] = tuple(game.value for game in POOL_GAMES)
 #: Largest request body accepted (bytes): an intent is a few hundred.
 MAX_BODY = 16 * 1024
 #: Largest claim body (bytes): a long game's record.

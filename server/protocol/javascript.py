@@ -56,6 +56,10 @@ def module_text() -> str:
         _const("SNOOKER_REDS", list(ids.SNOOKER_REDS)),
         _const("THREE_CUSHION_TARGET", ids.THREE_CUSHION_TARGET),
         _const("THREE_CUSHION_TARGETS", list(ids.THREE_CUSHION_TARGETS)),
+        _const("TABLE_SIZES", list(ids.TABLE_SIZES)),
+        _const("TABLE_SIZE", ids.TABLE_SIZE),
+        _const("SIZED_GAMES", list(ids.SIZED_GAMES)),
+        _const("POSITION_PARAM", ids.POSITION_PARAM),
     ]
     return "\n".join(lines) + "\n"
 

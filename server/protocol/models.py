@@ -40,6 +40,7 @@ def json_int(low: int, high: int | None = None) -> object:
 ShotClock = json_int(0, 0) | json_int(ids.SHOT_CLOCK_MIN, ids.SHOT_CLOCK_MAX)
 RaceTo = json_int(1, ids.RACE_TO_MAX)
 Reds = Literal[6, 10, 15]
+TableSize = Literal[tuple(ids.TABLE_SIZES)]  # type: ignore[valid-type]
 Target = json_int(0, ids.TARGET_MAX)
 
 _REQUEST = ConfigDict(frozen=True, extra="forbid")
@@ -208,6 +209,7 @@ class TableOptions(BaseModel):
     private: bool = False
     reds: Reds = Field(default=15, description="snooker's reds: 6, 10 or 15")
     target: Target = Field(default=0, description="three-cushion's points to win, 0: 15")
+    size: TableSize = Field(default=ids.TABLE_SIZE, description="pool's table size in feet")
 
 
 class GameChoice(BaseModel):
@@ -220,6 +222,9 @@ class GameChoice(BaseModel):
     race_to: RaceTo = 1
     reds: Reds = Field(default=15, description="snooker only: 6, 10 or 15 reds")
     target: Target = Field(default=0, description="three-cushion only: points to win (0: 15)")
+    size: TableSize = Field(
+        default=ids.TABLE_SIZE, description="nine-ball and eight-ball only: the table in feet"
+    )
 
     @field_validator("target")
     @classmethod
@@ -231,11 +236,30 @@ class GameChoice(BaseModel):
 
     @model_validator(mode="after")
     def _options_of_the_game(self) -> GameChoice:
-        if self.reds != 15 and self.game != "snooker":
-            raise ValueError("only snooker is played with fewer reds")
-        if self.target and self.game != "three_cushion":
-            raise ValueError("only three-cushion has a target of points")
-        return self
+        return options_of_the_game(self)
+
+
+def options_of_the_game(choice: GameChoice | PositionShare) -> GameChoice | PositionShare:
+    """`choice`, once its options are found to be its game's (ValueError otherwise)."""
+    if choice.reds != 15 and choice.game != "snooker":
+        raise ValueError("only snooker is played with fewer reds")
+    if getattr(choice, "target", 0) and choice.game != "three_cushion":
+        raise ValueError("only three-cushion has a target of points")
+    if choice.size != ids.TABLE_SIZE and choice.game not in ids.SIZED_GAMES:
+        raise ValueError("only nine-ball and eight-ball are played on other table sizes")
+    return choice
+
+
+Coordinate = Annotated[float, Field(allow_inf_nan=False)]
+#: A set-up position: ball id -> [x, y] in the table's coordinates (m), checked by the rules
+#: (`rules.positions`) against the game, its reds and its table size.
+Position = Annotated[
+    dict[
+        Annotated[str, StringConstraints(min_length=1, max_length=8)],
+        tuple[Coordinate, Coordinate],
+    ],
+    Field(max_length=22),
+]
 
 
 class TableCreate(GameChoice):
@@ -243,6 +267,18 @@ class TableCreate(GameChoice):
     shot_clock: ShotClock = 0
     private: bool = False
     bot: BotName = BotName.LEVEL_3
+    position: Position | None = Field(
+        default=None,
+        description="practice only: the position the table's racks start from instead of the "
+        "game's rack (the game's own balls, each on the bed, none overlapping; without the cue "
+        "ball, it is in hand). Its breaks are not ranked.",
+    )
+
+    @model_validator(mode="after")
+    def _position_in_practice(self) -> TableCreate:
+        if self.position is not None and self.mode is not Mode.PRACTICE:
+            raise ValueError("only a practice table starts from a set-up position")
+        return self
 
     def options(self) -> TableOptions:
         return TableOptions(
@@ -251,7 +287,47 @@ class TableCreate(GameChoice):
             private=self.private,
             reds=self.reds,
             target=self.target,
+            size=self.size,
         )
+
+
+class RackRequest(BaseModel):
+    """A practice table's next rack: from `position` (a set-up position, as `TableCreate`
+    takes one), or the game's own rack when it is absent."""
+
+    model_config = _REQUEST
+
+    position: Position | None = None
+
+
+class PositionShare(BaseModel):
+    """A position to share: the game, its options and the balls."""
+
+    model_config = _REQUEST
+
+    game: GameName
+    size: TableSize = ids.TABLE_SIZE
+    reds: Reds = 15
+    position: Position
+
+    @model_validator(mode="after")
+    def _options_of_the_game(self) -> PositionShare:
+        options_of_the_game(self)
+        return self
+
+
+class SharedPosition(BaseModel):
+    """A shared position, checked: its link code (`/practice/{game}?position=code`) and what
+    it sets up."""
+
+    model_config = _ANSWER
+
+    code: str
+    url: str
+    game: GameName
+    size: int
+    reds: int
+    position: dict[str, tuple[float, float]]
 
 
 class ShotRules(BaseModel):
@@ -352,6 +428,24 @@ class TableView(BaseModel):
     replays: list[ReplayId] = Field(default=[], description="each finished rack's replay")
     rematch: tuple[bool, bool] = (False, False)
     rematch_table: TableId | None = None
+    position: dict[str, tuple[float, float]] | None = Field(
+        default=None,
+        description="practice: the set-up position this rack started from (null: the game's "
+        "rack); its breaks are not ranked",
+    )
+    retake: bool = Field(
+        default=False, description="practice: the last shot can be taken again (`/retake`)"
+    )
+    ball_set: list[str] = Field(
+        default=[],
+        description="practice: the game's balls at this table's options (what a set-up "
+        "position may hold)",
+    )
+    presets: dict[str, dict[str, tuple[float, float]]] = Field(
+        default={},
+        description="practice: named positions of this game and table size to set up "
+        "(`combination`, `long_pot`, three-cushion's `standard`); the break is a re-rack",
+    )
 
 
 class QuickRequest(GameChoice):
@@ -487,10 +581,22 @@ class BreakEntry(BaseModel):
     at: float
 
 
+class RankedOptions(BaseModel):
+    """The options a board ranks (null: the game has no such option); breaks at others, and
+    from set-up practice positions, keep their replays but are not ranked."""
+
+    model_config = _ANSWER
+
+    reds: int | None = None
+    target: int | None = None
+    size: int | None = None
+
+
 class Leaderboard(BaseModel):
     model_config = _ANSWER
 
     game: GameName
+    ranks: RankedOptions = Field(description="the options this board ranks")
     breaks: list[BreakEntry]
 
 

@@ -30,9 +30,9 @@ from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
 from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, ReplayView
 
-STORAGE_VERSION = 3
+STORAGE_VERSION = 4
 #: The digest of the stored types' schemas at `STORAGE_VERSION` (see the module docstring).
-FINGERPRINT = "c42066d8cb520127"
+FINGERPRINT = "1eb16da3a7deb169"
 #: The record types storage keeps (and `fingerprint` digests).
 STORED: tuple[type[BaseModel], ...] = (
     TableRecord,
@@ -55,6 +55,11 @@ MIGRATIONS: dict[int, Callable[[type[BaseModel], Document], Document]] = {
     # the options `reds` and `target` (the defaults they were played with); match results are
     # stored, and challenges; a replay's rack setup may carry snooker's `reds` (15 before).
     2: lambda _kind, document: document,
+    # 3 -> 4: tables gained the option `size` (pool's table, 9 ft before), a practice table's
+    # set-up `position` and the balls of its last shot (`retake`), none before; a state and a
+    # replay's rack setup may carry `size` and (setup) `position`, absent before. Leaderboard
+    # answers say which options they rank (not stored).
+    3: lambda _kind, document: document,
 }
 
 M = TypeVar("M", bound=BaseModel)

@@ -3,7 +3,16 @@
 // holds the control and `read()` the chosen value as the API's field ({reds: 6}). The choices
 // come from the server's protocol module (server/protocol/ids.py), never written here; a new
 // option is one function more in `GAME_OPTIONS`.
-import { RACE_TO_MAX, SHOT_CLOCKS, SNOOKER_REDS, THREE_CUSHION_TARGET, THREE_CUSHION_TARGETS } from "../net/protocol.js";
+import {
+  RACE_TO_MAX,
+  SHOT_CLOCKS,
+  SIZED_GAMES,
+  SNOOKER_REDS,
+  TABLE_SIZE,
+  TABLE_SIZES,
+  THREE_CUSHION_TARGET,
+  THREE_CUSHION_TARGETS,
+} from "../net/protocol.js";
 
 function labelled(words, control) {
   const label = document.createElement("label");
@@ -40,6 +49,13 @@ export function targetControl(game) {
   return { label: labelled("Play to", select), read: () => ({ target: Number(select.value) }) };
 }
 
+/** Pool's table size in feet (7, 8 or 9). */
+export function sizeControl(game) {
+  if (!SIZED_GAMES.includes(game)) return null;
+  const select = choice("size", TABLE_SIZES, TABLE_SIZE, (feet) => `${feet} ft table`);
+  return { label: labelled("Table", select), read: () => ({ size: Number(select.value) }) };
+}
+
 /** Seconds per shot (0: no clock). */
 export function clockControl() {
   const select = choice("shot_clock", SHOT_CLOCKS, 0, (s) => (s ? `${s} s` : "none"));
@@ -47,7 +63,7 @@ export function clockControl() {
 }
 
 /** The options a game's quick match and bot games are asked with, in the order shown. */
-export const GAME_OPTIONS = [raceControl, redsControl, targetControl];
+export const GAME_OPTIONS = [raceControl, redsControl, targetControl, sizeControl];
 /** ...and a table or challenge made by hand, which also sets its shot clock. */
 export const TABLE_OPTIONS = [...GAME_OPTIONS, clockControl];
 
@@ -65,6 +81,7 @@ export function optionWords(game, options) {
   if (options.race_to > 1) words.push(`race to ${options.race_to}`);
   if (game === "snooker" && options.reds && options.reds !== Math.max(...SNOOKER_REDS)) words.push(`${options.reds} reds`);
   if (game === "three_cushion") words.push(`to ${options.target || THREE_CUSHION_TARGET} points`);
+  if (options.size && options.size !== TABLE_SIZE) words.push(`${options.size} ft table`);
   if (options.shot_clock) words.push(`${options.shot_clock} s shot clock`);
   return words.join(", ");
 }

@@ -38,6 +38,18 @@ function show(breaks) {
   $("board-status").textContent = n ? `${n} break${n === 1 ? "" : "s"}` : "No breaks yet: be the first.";
 }
 
+/** What the board ranks, in words, from the server's `ranks` (shown under the title). */
+function showRanks(ranks) {
+  const parts = [];
+  if (ranks.reds) parts.push(`${ranks.reds} reds`);
+  if (ranks.target) parts.push(`games to ${ranks.target} points`);
+  if (ranks.size) parts.push(`the ${ranks.size} ft table`);
+  const what = parts.length ? `${parts.join(", ")}, ` : "";
+  const p = Object.assign(document.createElement("p"), { className: "muted", id: "ranks" });
+  p.textContent = `Ranked: ${what}from the game's own rack. Breaks at other options or from set-up practice positions keep their replays but are not ranked.`;
+  $("title").after(p);
+}
+
 async function claim(game) {
   const verdict = $("claim-verdict");
   verdict.className = "";
@@ -75,7 +87,9 @@ async function main() {
     e.preventDefault();
     claim(game);
   });
-  show((await get(`/api/leaderboard/${game}`)).breaks);
+  const board = await get(`/api/leaderboard/${game}`);
+  showRanks(board.ranks);
+  show(board.breaks);
   new Subscription("public-leaderboard", { onMessage: (m) => m.kind === "leaderboard" && m.game === game && show(m.breaks) });
 }
 

@@ -4,7 +4,7 @@
 // progress (the cue ball placed in hand, the aim) and the last refusal, shown until the next
 // action. Every rule question (what to declare, where to place, what to hit first) is read
 // from the server's `next`.
-import { ApiError, currentPlayer, get, post, shotId } from "../net/api.js";
+import { currentPlayer, shotId } from "../net/api.js";
 import { BOT_PREFIX } from "../net/protocol.js";
 import { ensurePlayer, showWho } from "../net/identity.js";
 import { aimAtTarget, showBotAim } from "../play/aiming.js";
@@ -15,6 +15,8 @@ import { countShown, hooks } from "../play/hooks.js";
 import { MatchActions, resultWords } from "../play/match.js";
 import { freePlace, inRegion, keepInRegion, overlap, usualSpot } from "../play/placing.js";
 import { showClock, showScoreboard } from "../play/scoreboard.js";
+import { PracticeTool, practiceTable } from "../play/setup.js";
+import { tableFor } from "../play/tables.js";
 import { TableSession } from "../play/session.js";
 import { TableSounds } from "../play/sound.js";
 import { TableState } from "../play/state.js";
@@ -42,24 +44,6 @@ function button(label, onClick, className = "") {
   const b = Object.assign(document.createElement("button"), { type: "button", textContent: label, className });
   b.addEventListener("click", onClick);
   return b;
-}
-
-/** The id of this player's practice table for `game`: the one kept from last time if it still
- *  runs, else a new one. */
-async function practiceTable(game, me) {
-  const key = `billiards.practice.${game}`;
-  const kept = localStorage.getItem(key);
-  if (kept) {
-    try {
-      const view = await get(`/api/tables/${kept}`);
-      if (view.status === "playing" && view.seats[0]?.id === me.id) return kept;
-    } catch (e) {
-      if (!(e instanceof ApiError)) throw e;
-    }
-  }
-  const view = await post("/api/tables", { game, mode: "practice" });
-  localStorage.setItem(key, view.id);
-  return view.id;
 }
 
 class PlayPage {
@@ -92,7 +76,7 @@ class PlayPage {
   }
 
   async setup(view) {
-    const table = (await geometry)[view.game];
+    const table = tableFor(await geometry, view.game, view.options.size);
     document.title = `billiards: ${view.game}`;
     this.view3d = new TableScene($("table"), table, view.game);
     Object.assign(hooks, {
@@ -105,6 +89,7 @@ class PlayPage {
       botAims: () => this.view3d.botAims ?? 0,
       region: () => this.view3d.regionName,
       theirAim: () => this.theirAim ?? null,
+      table: () => this.view3d.table,
     });
     const els = { canvas: $("table"), power: $("power"), powerOut: $("power-out"), elevation: $("elevation") };
     Object.assign(els, { elevationOut: $("elevation-out"), tip: $("tip"), hit: $("hit"), viewToggle: $("view-toggle") });
@@ -117,6 +102,7 @@ class PlayPage {
       },
     });
     this.chatButtons();
+    if (view.mode === "practice") this.practice = new PracticeTool(this);
     sounds.bindToggle($("sound"));
     if (view.mode === "match" && view.status !== "over") this.match.noteRating(view.game);
   }
@@ -188,6 +174,7 @@ class PlayPage {
       if (heading != null) this.controls.set({ heading });
     }
     this.render();
+    this.practice?.shown();
     countShown(v.version);
   }
 

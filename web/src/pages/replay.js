@@ -10,6 +10,7 @@ import { TableSounds } from "../play/sound.js";
 import { decisionWords, playerName } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableScene } from "../three/view.js";
+import { tableFor } from "../play/tables.js";
 
 const $ = (id) => document.getElementById(id);
 
@@ -177,7 +178,7 @@ async function openRack(id, tables) {
   const replay = await get(`/api/replays/${id}`);
   const table = replay.table ? await get(`/api/tables/${replay.table}`) : null;
   const view = { game: replay.game, mode: table?.mode ?? "match", seats: replay.players };
-  const page = new ReplayPage(id, view, tables[replay.game]);
+  const page = new ReplayPage(id, view, tableFor(tables, replay.game, replay.record.setup.size));
   page.say(`Rack ${replay.rack} of ${replay.game}: loading its shots...`);
   const { shots } = await replayShots(id);
   // The replay's states are the rack's own, its last one where the rack ended.
@@ -194,7 +195,7 @@ function outcomeShot(m) {
 
 async function openTable(id, tables) {
   const view = await get(`/api/tables/${id}`);
-  const page = new ReplayPage(id, view, tables[view.game]);
+  const page = new ReplayPage(id, view, tableFor(tables, view.game, view.options.size));
   page.view3d.setBalls(view.state.balls);
   new Subscription(view.channel, { onMessage: (m) => m.kind === "outcome" && m.trajectory && page.add([outcomeShot(m)]) });
   return page;

@@ -8,7 +8,10 @@
 // aim(): the aim as the controls hold it and the first ball on its line, with whether the
 //   server lists it as a legal first contact; placement(): the cue ball placed in hand, or null;
 //   region(): the ball-in-hand region drawn, or null; botAims(): how many bot shots were shown
-//   lined up before they were played; sending: whether an intent awaits the server's answer.
+//   lined up before they were played; sending: whether an intent awaits the server's answer;
+// table(): the geometry the table is drawn from (the server's, at the table's size);
+// practice(): on a practice table, the position being set up (null when none) and the last
+//   shared position's link.
 // The page fills them in as it builds what they read; nothing else writes here.
 
 export const hooks = { animations: [], shown: 0, version: undefined };
