@@ -188,6 +188,9 @@ class PlayPage {
       if (heading != null) this.controls.set({ heading });
     }
     this.render();
+    // /practice/{game} opens the player's running practice or a new one: once this one is
+    // over, the address becomes the table's own, so that a reload shows it, replays and all.
+    if (v.status === "over" && location.pathname.startsWith("/practice/")) history.replaceState(null, "", `/table/${v.id}`);
     countShown(v.version);
   }
 
@@ -238,7 +241,7 @@ class PlayPage {
     }
     const { decided } = this.state;
     if (v.status === "over" && v.winner != null) {
-      $("status").textContent = `Match over. ${resultWords(v, decided)} ${scoreWords(v)}`;
+      $("status").textContent = `Match over. ${resultWords(v)} ${scoreWords(v)}`;
       return;
     }
     const words = decided ? outcomeWords(v, decided) : v.last_outcome?.void ? `The shot could not be played (${v.last_outcome.void}).` : "";
