@@ -244,6 +244,13 @@ class PlayPage {
       $("status").textContent = `Match over. ${resultWords(v)} ${scoreWords(v)}`;
       return;
     }
+    if (v.status === "open") {
+      // Nothing is played before the opponent comes: only what to do about it.
+      const lobby = v.options.private ? "" : ", or wait for a player from the lobby";
+      const invite = this.mine === null ? `Join this table to play ${seatName(v, 0)}.` : `Send this table's link to your opponent${lobby}.`;
+      $("status").textContent = [this.notice, nextWords(v), invite].filter(Boolean).join(" ");
+      return;
+    }
     const words = decided ? outcomeWords(v, decided) : v.last_outcome?.void ? `The shot could not be played (${v.last_outcome.void}).` : "";
     $("status").textContent = [this.notice, words, nextWords(v), scoreWords(v)].filter(Boolean).join(" ");
   }
@@ -268,7 +275,8 @@ class PlayPage {
   }
 
   tick() {
-    if (this.state.goneSeat() >= 0) {
+    // (Also once the gone player is back, or the match is over: the banner goes.)
+    if (this.state.goneSeat() >= 0 || this.goneShown) {
       this.presenceBanner();
       const claim = this.state.claimable();
       if (claim !== this.claimShown) this.actions(this.mine);
@@ -376,6 +384,7 @@ class PlayPage {
 
   async join() {
     this.me = await ensurePlayer();
+    await this.match.noteRating(this.state.view.game); // (a visitor had no rating to note)
     try {
       await this.session.action("join");
     } catch (e) {
@@ -393,7 +402,9 @@ class PlayPage {
 
   presenceBanner() {
     const gone = this.state.goneSeat();
-    if (gone < 0) return this.banner(null);
+    const shown = this.goneShown;
+    this.goneShown = gone >= 0;
+    if (gone < 0) return shown && this.banner(null);
     const until = this.state.grace[gone];
     const left = until ? Math.max(0, Math.ceil(until - Date.now() / 1000)) : null;
     const wait = left ? ` (the win may be claimed in ${left} s)` : left === 0 ? " (the win may be claimed)" : "";

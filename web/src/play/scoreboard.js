@@ -41,7 +41,7 @@ export function showScoreboard(box, v) {
     const gone = v.presence?.[seat] === false && v.seats[seat] ? " (disconnected)" : "";
     const name = span(`name${acting ? " to-act" : ""}`, "");
     const player = v.seats[v.mode === "practice" ? 0 : seat]; // practice: one person, both sides
-    name.append(nameElement(player, playerName(v, seat)), gone);
+    name.append(nameElement(player, player ? playerName(v, seat) : "(open seat)"), gone);
     if (v.game === "eightball") name.append(span("group muted", ` ${groupWords(v.state, seat)}`));
     box.append(name, span("score", String(v.state.scores[seat])));
   }
