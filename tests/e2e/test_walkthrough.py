@@ -29,9 +29,10 @@ class Walk:
     def __init__(self) -> None:
         self.step = 0
 
-    def shot(self, page, what: str) -> None:
+    def shot(self, page, what: str, settle: bool = True) -> None:
+        """Save what `page` shows now (`settle`: once a play page has drawn every change)."""
         self.step += 1
-        if page.evaluate("typeof window.billiards?.drawn === 'function'"):  # a play page
+        if settle and page.evaluate("typeof window.billiards?.drawn === 'function'"):
             wait_drawn(page)
         screenshot(page, f"walk-{self.step:02d}-{what}")
 
@@ -149,7 +150,7 @@ def bot(walk: Walk, page, server) -> None:
             )
         else:
             page.wait_for_timeout(100)
-    walk.shot(page, "bot-lining-up")
+    walk.shot(page, "bot-lining-up", settle=False)  # (during the bot's pause before its stroke)
     version = page.evaluate("window.billiards.version")
     page.wait_for_function("(v) => window.billiards.version > v", arg=version, timeout=180_000)
     walk.shot(page, "bot-after-its-shot")

@@ -176,6 +176,7 @@ class PlayPage {
     const shooting = this.state.turnOf(this.me) === "shot";
     const shot = shooting ? this.state.shot : null;
     showDeclarations($("extras"), shot);
+    this.blocked = false;
     // A called pocket is ringed on the table as soon as it is chosen.
     this.view3d.markPocket(null);
     $("extras").querySelector('select[name="call"]')?.addEventListener("change", (e) => this.view3d.markPocket(e.target.value || null));
@@ -184,8 +185,9 @@ class PlayPage {
     this.controls.setEnabled(shot ? v.next.cue_ball : null, { placing: shot?.place ?? null });
     if (shot) {
       this.ensureCueBall();
-      const heading = aimAtTarget(this.view3d, v.next.cue_ball, shot.targets);
-      if (heading != null) this.controls.set({ heading });
+      const aimed = aimAtTarget(this.view3d, v.next.cue_ball, shot.targets);
+      this.blocked = aimed?.clear === false; // no straight line to a legal ball from here
+      if (aimed) this.controls.set({ heading: aimed.heading });
     }
     this.render();
     // /practice/{game} opens the player's running practice or a new one: once this one is
@@ -270,8 +272,9 @@ class PlayPage {
     box.hidden = !contact || contact.legal === null;
     if (box.hidden) return;
     box.className = `contact ${contact.legal ? "legal" : "foul"}`;
-    const legal = [...new Set(this.state.shot.targets.map(ballWords))].slice(0, 3);
-    box.textContent = contact.legal ? `Aiming at ${ballWords(contact.ball)}: a legal first contact.` : `Aiming at ${ballWords(contact.ball)}: hitting it first is a foul (hit ${legal.join(" or ")}).`;
+    const legal = [...new Set(this.state.shot.targets.map(ballWords))].slice(0, 3).join(" or ");
+    const blocked = this.blocked ? ` No straight line to ${legal} is clear from here: go off a cushion.` : "";
+    box.textContent = contact.legal ? `Aiming at ${ballWords(contact.ball)}: a legal first contact.` : `Aiming at ${ballWords(contact.ball)}: hitting it first is a foul (hit ${legal}).${blocked}`;
   }
 
   tick() {
@@ -307,6 +310,7 @@ class PlayPage {
     if (overlap(t, v.state.balls, cue, at)) at = freePlace(t, region, v.state.balls, cue, at);
     if (!at) return;
     this.placement = at;
+    this.blocked = false; // (from elsewhere a straight line may be clear)
     this.view3d.setBalls({ ...v.state.balls, [cue]: at });
     this.controls.show();
   }
