@@ -31,7 +31,7 @@ import aiohttp
 from pydantic import BaseModel, Field, TypeAdapter, ValidationError
 
 from server.protocol.feed import CLOSE_GOING_AWAY, DELETED_REASON, GAP_TYPE, META_PROTOCOL
-from server.protocol.ids import HEARTBEAT_INTERVAL, QUICK_POLL, player_channel
+from server.protocol.ids import HEARTBEAT_INTERVAL, QUICK_POLL, MessageKind, player_channel
 from server.protocol.models import (
     ChatMessage,
     IntentAccepted,
@@ -380,7 +380,7 @@ class GameClient:
         assert self.player is not None
         async for data in self.messages(player_channel(self.player.id)):
             message = {} if data is None else json.loads(data)
-            if message.get("kind") == "paired":
+            if message.get("kind") == MessageKind.PAIRED:
                 return message["table"]
         raise Refused(0, "closed", "the player channel closed before pairing")
 

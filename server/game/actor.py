@@ -48,6 +48,11 @@ these on both storage backends; tests/service/test_stalls.py holds each over rea
    only by a change of the table or a seated player's heartbeat; a read (`GET`) starts no
    work at all. Inputs are played at most once (storage invariants 3-4). A bot whose search
    fails still moves (the clock's input), so its opponent is never held by it.
+7. **Every rack played has its replay.** A rack that ends on the table is archived before its
+   last outcome is published; a match that ends off it (a resignation, a claim) archives the
+   rack being played, its inputs so far, before the ending is stored, and the table lists the
+   replay with the others (`replays`, rack by rack). A rack in which no input was played has
+   nothing to replay and no replay.
 """
 
 from __future__ import annotations
@@ -67,6 +72,7 @@ from server.game.leaderboard import Breaks
 from server.game.lobby import new_seed
 from server.game.publisher import Publisher
 from server.game.ratings import Rating
+from server.game.refereeing import State
 from server.game.tables import GRACE, InputEntry, TableRecord
 from server.game.workers import WorkerPool
 from server.protocol import ids
@@ -102,6 +108,7 @@ SEARCHES_KEPT = 10_000
 
 Change = Callable[[TableRecord], TableRecord]
 AfterStore = Callable[[TableRecord], Awaitable[None]]
+BeforeStore = Callable[[TableRecord, TableRecord], Awaitable[TableRecord]]
 
 
 @dataclass
@@ -219,7 +226,7 @@ class TableActor:
             case commands.Leave(player):
                 return await self._change(lambda r: tables.leave(r, player))
             case commands.Resign(player):
-                return await self._change(lambda r: tables.resign(r, player))
+                return await self._end(lambda r: tables.resign(r, player))
             case commands.Claim(player):
                 return await self._claim(player)
             case commands.Rematch(player):
@@ -330,14 +337,16 @@ class TableActor:
         self, record: TableRecord, last: InputEntry, result: refereeing.Refereed
     ) -> str:
         """Store the finished rack's replay and breaks; its replay id."""
-        earlier = [
-            e.outcome
-            for e in await self._context.storage.rack_inputs(record.id, record.rack)
-            if e.outcome is not None and e.outcome.void is None
-        ]
-        played = [(o.input, o.state) for o in earlier] + [(last.input, result.state)]
-        replay = await self._context.breaks.rack_finished(record, played)
+        played = await self._rack_played(record) + [(last.input, result.state)]
+        replay = await self._context.breaks.rack_played(record, played)
         return replay.id
+
+    async def _rack_played(self, record: TableRecord) -> list[tuple[refereeing.PlayerInput, State]]:
+        """Each input of the table's current rack played so far (void ones left out), with the
+        state it led to: the rack's record as the rules replay it."""
+        entries = await self._context.storage.rack_inputs(record.id, record.rack)
+        outcomes = [e.outcome for e in entries if e.outcome is not None and e.outcome.void is None]
+        return [(o.input, o.state) for o in outcomes]
 
     async def _status_changed(self, before: TableRecord, after: TableRecord) -> None:
         """Tell the lobby; rate a match that has just been decided (people and bots alike) and
@@ -368,10 +377,16 @@ class TableActor:
             await storage.add_result(result)
 
     # ----- seats and the match --------------------------------------------------------------
-    async def _change(self, change: Change, after_store: AfterStore | None = None) -> TableRecord:
+    async def _change(
+        self,
+        change: Change,
+        after_store: AfterStore | None = None,
+        before_store: BeforeStore | None = None,
+    ) -> TableRecord:
         """Apply `change` to the stored table (compare-and-set), run `after_store` on the
         stored record, then announce the new view. `change` raises ServiceError to refuse;
-        returning the record unchanged stores and announces nothing."""
+        returning the record unchanged stores and announces nothing. `before_store(record,
+        after)` completes a change with what takes I/O to know (the record to store)."""
         for _ in range(CAS_TRIES):
             record = await self._settled()
             after = change(record)
@@ -379,6 +394,8 @@ class TableActor:
                 if after_store is not None:
                     await after_store(record)
                 return record
+            if before_store is not None:
+                after = await before_store(record, after)
             if await self._context.storage.update(after):
                 break
         else:
@@ -396,7 +413,26 @@ class TableActor:
         """The win for `player` if the opponent is absent past grace (read fresh, in turn)."""
         seen = await self._context.storage.heartbeats(self.table_id)
         grace = self._context.grace
-        return await self._change(lambda r: tables.claim(r, player, seen, time.time(), grace))
+        return await self._end(lambda r: tables.claim(r, player, seen, time.time(), grace))
+
+    async def _end(self, change: Change) -> TableRecord:
+        """A change that ends the match off the table (a resignation, a claim), stored with
+        the replay of the rack being played (invariant 7): archived, with its breaks, before
+        the ending is stored, so that nobody hears of the ending without it. A retry after
+        another replica's change archives again only if that change played an input."""
+        archived: dict[tuple[int, int], str | None] = {}
+
+        async def with_replay(before: TableRecord, after: TableRecord) -> TableRecord:
+            played = await self._rack_played(before)
+            key = (before.rack, len(played))
+            if key not in archived:
+                replay = await self._context.breaks.rack_played(before, played) if played else None
+                archived[key] = replay.id if replay is not None else None
+            if archived[key] is None:
+                return after
+            return after.model_copy(update={"replays": (*after.replays, archived[key])})
+
+        return await self._change(change, before_store=with_replay)
 
     async def _ensure_rematch(self, record: TableRecord) -> None:
         """Create the rematch table a finished match links to, unless it exists: its id is

@@ -2,7 +2,8 @@
 
 Breaks enter two ways, and every entry says which (`source`, docs/protocol.md):
 
-- **played on this server** (`match`, `practice`): at the end of every rack played here, each
+- **played on this server** (`match`, `practice`): at the end of every rack played here
+  (finished, or the rack being played when a match ended by a resignation or a claim), each
   seated person's best break of the rack, with the rack's replay;
 - **submitted** (`claim`): a player (a token) claims a break from a game record played
   anywhere, perhaps by a program (`billiards selfplay`). The server replays the record through
@@ -55,7 +56,7 @@ from server.game.replays import rack_replay, record_refused, replay_url
 from server.game.tables import TableRecord
 from server.game.workers import WorkerPool
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import SIZED_GAMES, new_replay_id
+from server.protocol.ids import LEADERBOARD, SIZED_GAMES, new_replay_id
 from server.protocol.models import (
     BreakEntry,
     ClaimRequest,
@@ -71,7 +72,6 @@ from server.protocol.models import (
 )
 from server.storage import Storage
 
-LEADERBOARD = "public-leaderboard"
 #: Claims replayed at once per process (a long record keeps a worker busy for seconds); more
 #: are refused with 429 so that claims cannot starve the matches of workers.
 MAX_VERIFYING = 1
@@ -128,16 +128,18 @@ class Breaks:
         top = await self._storage.top_breaks(game, TOP)
         await self._publisher.publish(LEADERBOARD, LeaderboardMessage(game=game, breaks=top))
 
-    async def rack_finished(
+    async def rack_played(
         self,
         record: TableRecord,
         played: list[tuple[PlayerInput, State]],
     ) -> ReplayView:
-        """Store the rack's replay and its players' best breaks (each break once: the same
-        visit from the same position, played or claimed before, is not entered again).
+        """Store the replay of the table's current rack and its players' best breaks (each
+        break once: the same visit from the same position, played or claimed before, is not
+        entered again). The rack may be unfinished (a match ended off the table): its record
+        then replays to the position it stopped at, with no winner.
 
-        played: each input of the rack that was played (void ones left out), with the state it
-        led to (the last one's `best` is each player's best break of the rack)."""
+        played: each input of the rack that was played (void ones left out, at least one),
+        with the state it led to (the last one's `best` is each player's best break so far)."""
         setup = record.setup
         game_record = refereeing.rack_record(setup, played)
         replay, best = rack_replay(record, game_record, played[-1][1])

@@ -1,9 +1,12 @@
-"""Replays: every finished rack (frame, game) of every table, as a record anyone can replay.
+"""Replays: every rack (frame, game) played at every table, as a record anyone can replay.
 
 A replay is the rack's game record (setup and inputs, `rules.record.GameRecord`) under an id of
 96 random bits, so a private table's racks cannot be found by guessing; `/replay/{id}` is its
 page in the web client and `GET /api/replays/{id}` its JSON. The record's players are the
 table's seats and its setup names the rack's breaker, so it replays exactly as it was played.
+A rack is archived when it ends, and so is the rack being played when a match ends off the
+table (a resignation, a claim: server/game/actor.py, invariant 7); that record stops where the
+rack stopped, its final result unfinished (no winner), and replays like any other.
 
 The browser runs no physics, so `GET /api/replays/{id}/shots?page=N` answers the inputs'
 outcomes (`ReplayShots`), computed by replaying the record in the background worker. Its
@@ -61,8 +64,9 @@ def rack_replay(
     game_record: GameRecord,
     final: State,
 ) -> tuple[ReplayView, tuple[int, int]]:
-    """The replay of a finished rack (`game_record`: its inputs as the rules record them, from
-    `refereeing.rack_record`), and each seat's best break in it (the referee's `final.best`)."""
+    """The replay of a rack, finished or not (`game_record`: its inputs as the rules record
+    them, from `refereeing.rack_record`), and each seat's best break in it (the referee's
+    `final.best`)."""
     best = final.best
     replay_id = new_replay_id()
     view = ReplayView(

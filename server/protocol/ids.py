@@ -142,6 +142,8 @@ def server_input_id(prefix: str, version: int) -> str:
 # ----- channels -------------------------------------------------------------------------------
 #: The lobby's snapshots.
 LOBBY = "public-lobby"
+#: Each game's top breaks after a new entry.
+LEADERBOARD = "public-leaderboard"
 TABLE_CHANNEL_PREFIX = "table-"
 PLAYER_CHANNEL_PREFIX = "player-"
 
@@ -154,6 +156,21 @@ def table_channel(table_id: str) -> str:
 def player_channel(player_id: str) -> str:
     """A player's own channel: its quick-match pairing."""
     return f"{PLAYER_CHANNEL_PREFIX}{player_id}"
+
+
+class MessageKind(StrEnum):
+    """The `kind` of every message published on a channel (server/protocol/models.py), which
+    a subscriber switches on."""
+
+    OUTCOME = "outcome"
+    TABLE = "table"
+    PRESENCE = "presence"
+    CHAT = "chat"
+    AIM = "aim"
+    LOBBY = "lobby"
+    PAIRED = "paired"
+    CHALLENGE = "challenge"
+    LEADERBOARD = "leaderboard"
 
 
 # ----- timings and limits ---------------------------------------------------------------------

@@ -43,6 +43,8 @@ def module_text() -> str:
         _const("CLOCK_PREFIX", ids.CLOCK_PREFIX),
         _const("BOT_PREFIX", ids.BOT_PREFIX),
         _const("LOBBY", ids.LOBBY),
+        _const("LEADERBOARD", ids.LEADERBOARD),
+        _const("KIND", {kind.name: kind.value for kind in ids.MessageKind}),
         f"export const tableChannel = (id) => {json.dumps(ids.TABLE_CHANNEL_PREFIX)} + id;",
         f"export const playerChannel = (id) => {json.dumps(ids.PLAYER_CHANNEL_PREFIX)} + id;",
         _const("HEARTBEAT_MS", round(ids.HEARTBEAT_INTERVAL * 1000)),

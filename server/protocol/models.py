@@ -27,7 +27,7 @@ from rules.record import GameRecord
 from rules.state import Decision, Region, State
 from server.protocol import ids
 from server.protocol.errors import ErrorCode
-from server.protocol.ids import PROTOCOL, BotName, QuickText
+from server.protocol.ids import PROTOCOL, BotName, MessageKind, QuickText
 from server.protocol.trajectories import Trajectory
 
 
@@ -425,7 +425,11 @@ class TableView(BaseModel):
     spectators: int = 0
     winner: Seat | None = None
     ended: Ending | None = Field(default=None, description="how the match ended, once over")
-    replays: list[ReplayId] = Field(default=[], description="each finished rack's replay")
+    replays: list[ReplayId] = Field(
+        default=[],
+        description="each rack's replay, rack 1 first: every finished rack, and the rack being"
+        " played when the match ended by a resignation or a claim if an input was played in it",
+    )
     rematch: tuple[bool, bool] = (False, False)
     rematch_table: TableId | None = None
     position: dict[str, tuple[float, float]] | None = Field(
@@ -601,11 +605,11 @@ class Leaderboard(BaseModel):
 
 
 class LeaderboardMessage(BaseModel):
-    """On `public-leaderboard`: a game's top breaks after a new entry."""
+    """On the leaderboard channel (`ids.LEADERBOARD`): a game's top breaks after a new entry."""
 
     model_config = _ANSWER
 
-    kind: Literal["leaderboard"] = "leaderboard"
+    kind: Literal[MessageKind.LEADERBOARD] = MessageKind.LEADERBOARD
     protocol: int = PROTOCOL
     game: GameName
     breaks: list[BreakEntry]
@@ -639,7 +643,7 @@ class OutcomeMessage(BaseModel):
 
     model_config = _ANSWER
 
-    kind: Literal["outcome"] = "outcome"
+    kind: Literal[MessageKind.OUTCOME] = MessageKind.OUTCOME
     protocol: int = PROTOCOL
     table: TableId
     version: int
@@ -663,7 +667,7 @@ class OutcomeMessage(BaseModel):
 class TableMessage(BaseModel):
     model_config = _ANSWER
 
-    kind: Literal["table"] = "table"
+    kind: Literal[MessageKind.TABLE] = MessageKind.TABLE
     protocol: int = PROTOCOL
     version: int
     view: TableView
@@ -672,7 +676,7 @@ class TableMessage(BaseModel):
 class PresenceMessage(BaseModel):
     model_config = _ANSWER
 
-    kind: Literal["presence"] = "presence"
+    kind: Literal[MessageKind.PRESENCE] = MessageKind.PRESENCE
     protocol: int = PROTOCOL
     version: int
     presence: tuple[bool, bool]
@@ -682,7 +686,7 @@ class PresenceMessage(BaseModel):
 class ChatMessage(BaseModel):
     model_config = _ANSWER
 
-    kind: Literal["chat"] = "chat"
+    kind: Literal[MessageKind.CHAT] = MessageKind.CHAT
     protocol: int = PROTOCOL
     version: int
     from_name: str
@@ -748,7 +752,7 @@ class ChallengeMessage(BaseModel):
 
     model_config = _ANSWER
 
-    kind: Literal["challenge"] = "challenge"
+    kind: Literal[MessageKind.CHALLENGE] = MessageKind.CHALLENGE
     protocol: int = PROTOCOL
     challenge: Challenge
 
@@ -758,7 +762,7 @@ class AimMessage(AimRequest):
 
     model_config = _ANSWER
 
-    kind: Literal["aim"] = "aim"
+    kind: Literal[MessageKind.AIM] = MessageKind.AIM
     protocol: int = PROTOCOL
     version: int
     seat: Seat
@@ -767,7 +771,7 @@ class AimMessage(AimRequest):
 class LobbyMessage(BaseModel):
     model_config = _ANSWER
 
-    kind: Literal["lobby"] = "lobby"
+    kind: Literal[MessageKind.LOBBY] = MessageKind.LOBBY
     protocol: int = PROTOCOL
     tables: list[TableSummary]
     players_online: int
@@ -779,7 +783,7 @@ class LobbyMessage(BaseModel):
 class PairedMessage(BaseModel):
     model_config = _ANSWER
 
-    kind: Literal["paired"] = "paired"
+    kind: Literal[MessageKind.PAIRED] = MessageKind.PAIRED
     protocol: int = PROTOCOL
     table: TableId
 

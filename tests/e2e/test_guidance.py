@@ -9,6 +9,11 @@ from __future__ import annotations
 import json
 import math
 
+from rules.inputs import accept
+from rules.referee import referee as referee_of
+from rules.spots import in_region, is_free
+from rules.state import State
+from server.game import refereeing
 from tests.e2e.conftest import (
     Api,
     drawn_balls,
@@ -121,6 +126,75 @@ def test_aiming_starts_at_a_legal_first_contact_and_marks_a_foul(open_page, serv
     page, api = practice(open_page, server, "three_cushion")
     targets = api.table(table_id(page))["next"]["shot"]["targets"]
     assert aim(page)["contact"] == {"ball": targets[0], "legal": True}
+
+
+def foul_beside(state: State, ball: str) -> dict | None:
+    """With the cue ball in hand anywhere: an input that places it just beside `ball` and rolls
+    it a centimetre away from it (touching nothing: a foul), from where the straight line to
+    the lowest ball is clear and longer than to `ball`; None if there is no such place."""
+    table = referee_of(state.game).TABLE
+    lowest = min((b for b in state.balls if b.isdigit()), key=int)
+    others = {b: p for b, p in state.balls.items() if b != "cue"}
+    at = others[ball]
+    for step in range(16):
+        angle = 2 * math.pi * step / 16
+        p = (at[0] + 0.07 * math.cos(angle), at[1] + 0.07 * math.sin(angle))
+        if not (in_region(p, "anywhere", table) and is_free(p, others, table.R)):
+            continue
+        if math.dist(p, others[lowest]) < 0.25 or blocked(p, others, lowest, 2.2 * table.R):
+            continue
+        strike = {"ball": "cue", "speed": refereeing.TIMEOUT_SPEED, "heading": math.degrees(angle)}
+        action = accept({"strike": strike, "place": [round(p[0], 4), round(p[1], 4)]})
+        try:
+            refereeing.check(state, action)
+        except refereeing.RuleError:
+            continue
+        return action.model_dump(mode="json", exclude_defaults=True)
+    return None
+
+
+def blocked(p, balls: dict, target: str, width: float) -> bool:
+    """Whether a ball other than `target` lies within `width` of the segment from p to it."""
+    q = balls[target]
+    length = math.dist(p, q)
+    for ball, c in balls.items():
+        t = ((c[0] - p[0]) * (q[0] - p[0]) + (c[1] - p[1]) * (q[1] - p[1])) / length**2
+        closest = (p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1]))
+        if ball != target and 0 < t < 1 and math.dist(c, closest) < width:
+            return True
+    return False
+
+
+def test_after_a_foul_in_nineball_the_aim_is_at_the_lowest_ball(open_page, server):
+    page, api = practice(open_page, server, "nineball")
+    table = table_id(page)
+    view = api.play_picked(table)  # the break
+    while view["next"]["shot"]["place"] != "anywhere":  # a foul: ball in hand anywhere
+        view = api.play(
+            table,
+            refereeing.timeout_input(State.model_validate(view["state"])).model_dump(mode="json"),
+        )
+    # The cue ball put beside a ball that is not the lowest, and a foul from there: the next
+    # player has the ball in hand where it stopped, nearest to that ball.
+    state = State.model_validate(view["state"])
+    lowest = min((b for b in state.balls if b.isdigit()), key=int)
+    foul = next(
+        filter(None, (foul_beside(state, b) for b in state.balls if b not in ("cue", lowest)))
+    )
+    view = api.play(table, foul)
+    balls = view["state"]["balls"]
+    assert (
+        view["next"]["shot"]["targets"] == [lowest] and view["next"]["shot"]["place"] == "anywhere"
+    )
+    nearest = min((b for b in balls if b != "cue"), key=lambda b: math.dist(balls[b], balls["cue"]))
+    assert nearest != lowest
+    wait_shown(page, view["version"] + 1)
+    page.wait_for_function("(v) => window.billiards.version === v", arg=view["version"])
+    assert aim(page)["contact"] == {"ball": lowest, "legal": True}
+    assert (
+        f"Aiming at the {lowest}: a legal first contact." in page.locator("#contact").inner_text()
+    )
+    screenshot(page, "guidance-aim-nineball-after-foul")
 
 
 def test_ball_in_hand_is_drawn_kept_off_the_balls_and_moved_with_keys(open_page, server):

@@ -5,6 +5,7 @@ every outcome and agree on the balls; Bob reloads mid-match and resumes where th
 from __future__ import annotations
 
 import math
+from urllib.parse import quote
 
 from tests.e2e.conftest import (
     MAX_SHOTS,
@@ -25,13 +26,19 @@ def view_of(page, server, table_id: str) -> dict:
 
 
 def assert_shows(page, view: dict) -> None:
-    drawn = drawn_balls(page)
     in_hand = view["next"] and view["next"]["cue_ball"] not in view["state"]["balls"]
-    if in_hand:  # the player to shoot is offered a place for it; the others see none
-        drawn.pop(view["next"]["cue_ball"], None)
-    assert drawn.keys() == view["state"]["balls"].keys()
+    # The player to shoot is offered a place for a cue ball in hand; the others see none.
+    assert_shows_balls(page, view["state"]["balls"], view["next"]["cue_ball"] if in_hand else None)
+
+
+def assert_shows_balls(page, balls: dict, offered: str | None = None) -> None:
+    """The page draws exactly `balls` (a state's), each where it stands (and perhaps the ball
+    `offered`, in hand)."""
+    drawn = drawn_balls(page)
+    drawn.pop(offered, None)
+    assert drawn.keys() == balls.keys()
     for ball, p in drawn.items():
-        assert math.dist(p, view["state"]["balls"][ball]) < 1e-9, ball
+        assert math.dist(p, balls[ball]) < 1e-9, ball
 
 
 def test_two_players_and_a_spectator(browser, server, console):
@@ -93,6 +100,21 @@ def test_two_players_and_a_spectator(browser, server, console):
             assert page.locator("#hint").inner_text() == ""  # nothing left to place or aim
         result = cy.locator("#result h2").inner_text()
         assert result.startswith(f"{names[1]} wins the match") and f"{names[0]} resigned" in result
+        # The rack cut short has its replay, listed in the result panel, after a reload too.
+        over = view_of(cy, server, table_id)
+        assert len(over["replays"]) == over["rack"]
+        cy.reload()
+        wait_version(cy, over["version"])
+        for page in (ada, bob, cy):
+            links = page.locator("#result #replays a")
+            assert links.count() == len(over["replays"])
+            assert links.last.inner_text() == f"rack {over['rack']} (unfinished)"
+            assert links.last.get_attribute("href") == f"/replay/{over['replays'][-1]}"
+        # The players' names lead to their profiles.
+        profiles = cy.locator("#players a.profile")
+        assert [profiles.nth(i).get_attribute("href") for i in range(2)] == [
+            f"/player/{quote(name)}" for name in names
+        ]
         screenshot(cy, "match-result")
         bob.get_by_role("button", name="Offer a rematch").click()
         ada.wait_for_selector(f"#result:has-text('{names[1]} offers a rematch')")
@@ -102,6 +124,21 @@ def test_two_players_and_a_spectator(browser, server, console):
             page.wait_for_url(lambda url: table_id not in url)
             wait_version(page, 0)
         assert ada.url == bob.url and ada.url.rsplit("/", 1)[1] != table_id
+
+        # Cy, still at the finished table, watches the resigned rack: it ends where the match
+        # did, its players named and linked.
+        cy.locator("#result #replays a").last.click()
+        cy.wait_for_url("**/replay/*")
+        cy.select_option("#speed", "4")
+        cy.wait_for_function("() => window.billiards.shots > 0", timeout=30_000)
+        shots = cy.evaluate("window.billiards.shots")
+        cy.wait_for_function("(n) => window.billiards.shown === n - 1", arg=shots, timeout=90_000)
+        assert_shows_balls(cy, over["state"]["balls"])
+        assert "Not finished" in cy.locator("#about").inner_text()
+        assert f"{names[0]} resigned" in cy.locator("#about").inner_text()
+        replay_names = cy.locator("#players a.profile")
+        assert [replay_names.nth(i).inner_text() for i in range(2)] == names
+        screenshot(cy, "match-replay-of-the-resigned-rack")
 
         # Bob leaves: Ada is told he is gone once his heartbeats stop (10 s).
         bob.close()

@@ -4,6 +4,7 @@ shared link opens at its shot."""
 from __future__ import annotations
 
 import math
+from urllib.parse import quote
 
 from tests.e2e.conftest import (
     drawn_balls,
@@ -43,3 +44,49 @@ def test_replay_reaches_the_final_positions(open_page, server):
     shared = open_page(link.removeprefix(server.url), who="shared")
     shared.wait_for_function("() => window.billiards.shown === 1", timeout=90_000)
     assert shared.locator("#shots li").count() == 2
+
+
+def test_an_ended_practice_lists_its_rack_and_its_replay_names_the_player(open_page, server):
+    name = unique_name("Rp ")  # a space: the profile link encodes it
+    page = open_page("/practice/eightball")
+    enter_name(page, name)
+    wait_shown(page)
+    profile = f"/player/{quote(name)}"
+    assert page.locator("#players a.profile").first.get_attribute("href") == profile
+    for shots in (1, 2):
+        strike_with_keys(page, hold_ms=300 * shots)
+        wait_shown(page, 1 + shots)
+    # Ending the practice (asked first) keeps the rack being played, unfinished as it is.
+    page.get_by_role("button", name="End practice").click()
+    page.get_by_role("button", name="Yes, end it").click()
+    page.wait_for_selector("#result")
+    table_id = page.evaluate("localStorage.getItem('billiards.practice.eightball')")
+    over = page.request.get(f"{server.url}/api/tables/{table_id}").json()
+    assert (over["status"], over["ended"]) == ("over", "resigned")
+    assert len(over["replays"]) == over["rack"]
+    assert "Practice over" in page.get_by_role("status").inner_text()
+    page.wait_for_url(f"**/table/{table_id}")  # the ended practice's own address
+    page.reload()  # the list is the server's: it survives a reload
+    link = page.locator("#result #replays a").last
+    link.wait_for()
+    assert link.inner_text() == f"rack {over['rack']} (unfinished)"
+    screenshot(page, "practice-ended")
+
+    link.click()
+    page.wait_for_url(f"**/replay/{over['replays'][-1]}")
+    page.select_option("#speed", "4")
+    page.wait_for_function("() => window.billiards.shots > 0", timeout=30_000)
+    shots = page.evaluate("window.billiards.shots")
+    page.wait_for_function("(n) => window.billiards.shown === n - 1", arg=shots, timeout=90_000)
+    drawn = drawn_balls(page)
+    assert drawn.keys() == over["state"]["balls"].keys()
+    for ball, p in drawn.items():
+        assert math.dist(p, over["state"]["balls"][ball]) < 1e-9, ball
+    # One person played both sides: the replay names that person, never P1 or P2.
+    players = page.locator("#players").inner_text()
+    assert players.count(name) == 2 and "Player 2" not in players
+    shots_words = page.locator("#shots").inner_text() + page.get_by_role("status").inner_text()
+    assert "P1" not in shots_words and "P2" not in shots_words and name in shots_words
+    assert page.locator("#players a.profile").first.get_attribute("href") == profile
+    assert "Not finished: the practice was ended here." in page.locator("#about").inner_text()
+    screenshot(page, "practice-replay-unfinished")

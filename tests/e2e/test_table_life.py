@@ -132,6 +132,7 @@ def test_the_win_is_claimed_after_the_grace_period(browser, server, console):
         view = apis[0].table(table)
         assert (view["status"], view["winner"]) == ("over", 0)
         assert f"{view['seats'][0]['name']} wins" in ada.get_by_role("status").inner_text()
+        ada.locator("#banner").wait_for(state="hidden")  # nothing is left to claim
         screenshot(ada, "table-win-claimed")
     finally:
         ada.context.close()

@@ -6,7 +6,8 @@ claims, resignations, rematch offers and accepts in bursts, the clock running ou
 server restarts on the same storage; a finished match is followed by its rematch, if any.
 After every sequence, on both storage backends: the
 match has ended or the seat to act can act; every input was played at most once; the table's
-versions have no holes; at most one rematch table exists.
+versions have no holes; at most one rematch table exists; every rack played has its replay,
+whose record is that rack's inputs.
 """
 
 from __future__ import annotations
@@ -20,7 +21,9 @@ from typing import Any
 import pytest
 from aiohttp.test_utils import TestClient
 
+from server.game.tables import InputEntry
 from server.protocol.models import Status
+from server.storage import Storage
 from tests.service.conftest import Player, StartServer, register, service_of
 from tests.service.test_match import picked
 
@@ -115,6 +118,7 @@ async def check(match: Match) -> None:
     for earlier, later in itertools.pairwise(inputs):
         assert later.version >= earlier.version + 1  # in order, none at a version twice
     assert all(entry.outcome.version <= view["version"] for entry in inputs)
+    await check_replays(service.storage, view, inputs)
     if view["status"] == "playing":  # the seat to act can act: its input is accepted
         seat = view["next"]["seat"]
         if view["next"]["kinds"] == ["shot"]:
@@ -130,6 +134,23 @@ async def check(match: Match) -> None:
     assert len(playing) <= 1
     if view["rematch_table"] is not None:
         assert playing == [view["rematch_table"]]
+
+
+async def check_replays(storage: Storage, view: dict[str, Any], inputs: list[InputEntry]) -> None:
+    """Every rack played at the table has its replay, rack by rack: the racks before the
+    current one (finished), and the current one once the match is over if an input was
+    played in it; each replay's record is its rack's inputs played (void ones left out)."""
+    played: dict[int, list[Any]] = {}
+    for entry in inputs:
+        if entry.outcome is not None and entry.outcome.void is None:
+            played.setdefault(entry.rack, []).append(entry.input)
+    racks = range(1, view["rack"] + (1 if view["status"] == "over" else 0))
+    expected = [(rack, played[rack]) for rack in racks if rack in played]
+    assert len(view["replays"]) == len(expected)
+    for replay_id, (rack, rack_inputs) in zip(view["replays"], expected, strict=True):
+        replay = await storage.get_replay(replay_id)
+        assert replay is not None and (replay.table, replay.rack) == (view["id"], rack)
+        assert list(replay.record.inputs) == rack_inputs
 
 
 @pytest.mark.parametrize("seed", SEEDS)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import time
 from typing import Any
 
 import pytest
@@ -11,16 +12,17 @@ from aiohttp.test_utils import TestClient
 
 import physics
 from rules.record import GameRecord, replay
-from server.game import replays
+from server.client.api_client import from_json
+from server.game import refereeing, replays
 from server.game.budget import WorkBudget
 from server.game.replays import ReplayShotsCache, shots_pages
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import REPLAY_SHOTS_PAGE
 from server.protocol.models import ReplayView
 from server.storage import Storage
-from tests.service.conftest import Ticks, register, watch
+from tests.service.conftest import Player, Ticks, register, service_of, watch
 from tests.service.test_leaderboard import _record
-from tests.service.test_match import picked
+from tests.service.test_match import picked, seated_match
 
 
 async def _shots(server: TestClient, replay_id: str) -> list[dict[str, Any]]:
@@ -65,6 +67,71 @@ async def test_a_practice_racks_shots_are_its_live_outcomes(server: TestClient) 
     for shot, outcome in zip(shots[:-1], outcomes[:-1], strict=True):
         assert shot["state"] == outcome["state"]
     assert await _shots(server, current["replay"]) == shots  # from the cache, the same
+
+
+async def _play_shots(server: TestClient, players: dict[str, Player], view: dict, shots: int):
+    """Play `shots` inputs on the table of `view`, each by the seat to act: the first option
+    of a choice, else the shot clock's dead-slow stroke (a foul that ends no rack); the
+    table's view after them."""
+    for _ in range(shots):
+        shooter = players[view["next"]["player"]]
+        if view["next"]["options"]:
+            action = {"kind": "choice", "option": view["next"]["options"][0]}
+        else:
+            state = from_json(refereeing.State, view["state"])
+            action = refereeing.timeout_input(state).model_dump(mode="json")
+        status, _ = await shooter.shoot(view["id"], view["version"], action)
+        assert status == 202
+        await service_of(server).matches.idle()
+        view = await (await server.get(f"/api/tables/{view['id']}")).json()
+        assert view["status"] == "playing" and view["rack"] == 1
+    return view
+
+
+async def test_a_rack_cut_short_by_a_resignation_or_a_claim_keeps_its_replay(
+    server: TestClient,
+) -> None:
+    ada, bob, view = await seated_match(server)
+    players = {ada.info["id"]: ada, bob.info["id"]: bob}
+    watcher = await watch(server, view["channel"])
+    before = await _play_shots(server, players, view, 2)
+    _, over = await bob.call("POST", f"/api/tables/{view['id']}/resign", expect=200)
+    assert (over["ended"], len(over["replays"])) == ("resigned", 1)
+    # Whoever hears of the ending hears of the replay: it is in the view published with it.
+    while (message := await watcher.next_kind("table"))["version"] < over["version"]:
+        pass
+    assert message["view"]["replays"] == over["replays"]
+    saved = await (await server.get(f"/api/replays/{over['replays'][0]}")).json()
+    inputs = await service_of(server).storage.rack_inputs(view["id"], 1)
+    assert saved["record"]["inputs"] == [e.input.model_dump(mode="json") for e in inputs]
+    assert saved["record"]["final"]["winner"] is None  # unfinished, and replayed as such
+    shots = await _shots(server, over["replays"][0])
+    assert len(shots) == 2 and shots[-1]["state"] == before["state"]
+    assert not shots[-1]["state"]["over"]
+
+    # A claim keeps the rack too; a match ended before any shot has nothing to replay.
+    _, _, claimed = await seated_match(server, (ada, bob))
+    await _play_shots(server, players, claimed, 1)
+    await service_of(server).storage.heartbeat(claimed["id"], 1, time.time() - 1000)
+    _, won = await ada.call("POST", f"/api/tables/{claimed['id']}/claim", expect=200)
+    assert (won["ended"], len(won["replays"])) == ("claimed", 1)
+    assert len(await _shots(server, won["replays"][0])) == 1
+    _, _, idle = await seated_match(server, (ada, bob))
+    _, over = await ada.call("POST", f"/api/tables/{idle['id']}/resign", expect=200)
+    assert over["replays"] == []
+
+
+async def test_an_ended_practice_keeps_its_last_rack_under_the_players_name(
+    server: TestClient,
+) -> None:
+    ada = await register(server, "Ada")
+    view = await ada.create("eightball", mode="practice")
+    await _play_shots(server, {ada.info["id"]: ada}, view, 2)
+    _, over = await ada.call("POST", f"/api/tables/{view['id']}/resign", expect=200)
+    assert (over["status"], over["winner"], len(over["replays"])) == ("over", None, 1)
+    saved = await (await server.get(f"/api/replays/{over['replays'][0]}")).json()
+    assert saved["players"] == [ada.info, None] and saved["rack"] == 1
+    assert len(await _shots(server, saved["id"])) == 2
 
 
 async def test_a_claimed_breaks_shots_replay_its_record(server: TestClient) -> None:

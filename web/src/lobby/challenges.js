@@ -8,7 +8,7 @@
 // ask the server again. A challenge received shows at once in the page and, when the player
 // allowed it, as a browser notification.
 import { post, get } from "../net/api.js";
-import { QUICK_POLL_MS } from "../net/protocol.js";
+import { KIND, QUICK_POLL_MS } from "../net/protocol.js";
 import { GAME_NAMES } from "../lib/looks.js";
 import { optionWords } from "../lib/options.js";
 import { playerLink } from "../lib/players.js";
@@ -56,7 +56,7 @@ export class Challenges {
 
   /** A message of the player's channel. */
   onMessage(m) {
-    if (m.kind !== "challenge") return;
+    if (m.kind !== KIND.CHALLENGE) return;
     const c = m.challenge;
     if (!this.known.has(c.id)) {
       this.refresh();

@@ -12,6 +12,8 @@ export const SHOT_ID_PATTERN = /^[A-Za-z0-9_-]{8,64}$/;
 export const CLOCK_PREFIX = "clock:";
 export const BOT_PREFIX = "bot:";
 export const LOBBY = "public-lobby";
+export const LEADERBOARD = "public-leaderboard";
+export const KIND = {"OUTCOME": "outcome", "TABLE": "table", "PRESENCE": "presence", "CHAT": "chat", "AIM": "aim", "LOBBY": "lobby", "PAIRED": "paired", "CHALLENGE": "challenge", "LEADERBOARD": "leaderboard"};
 export const tableChannel = (id) => "table-" + id;
 export const playerChannel = (id) => "player-" + id;
 export const HEARTBEAT_MS = 3000;

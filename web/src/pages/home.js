@@ -9,7 +9,7 @@ import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
 import { GAME_OPTIONS, optionControls, optionWords, TABLE_OPTIONS } from "../lib/options.js";
 import { playerLink } from "../lib/players.js";
-import { LOBBY, playerChannel, QUICK_POLL_MS, QUICK_SHOT_CLOCK } from "../net/protocol.js";
+import { KIND, LOBBY, playerChannel, QUICK_POLL_MS, QUICK_SHOT_CLOCK } from "../net/protocol.js";
 import { BOT_LEVELS, DEFAULT_BOT } from "../play/words.js";
 import { Challenges } from "../lobby/challenges.js";
 import { challengeForm, showOnline } from "../lobby/online.js";
@@ -75,7 +75,7 @@ async function quickMatch(game, options, button) {
     const now = await get("/api/quick").catch(() => null);
     if (now?.status === "paired") go(now.table);
   };
-  session.listeners.push((m) => m.kind === "paired" && poll());
+  session.listeners.push((m) => m.kind === KIND.PAIRED && poll());
   setInterval(poll, QUICK_POLL_MS);
   button.onclick = async () => {
     await call("DELETE", "/api/quick").catch(() => {});
@@ -233,7 +233,7 @@ async function main() {
   get("/api/tables")
     .then((list) => showTables(list.tables, null))
     .catch(error);
-  new Subscription(LOBBY, { onMessage: (m) => m.kind === "lobby" && showLobby(m) });
+  new Subscription(LOBBY, { onMessage: (m) => m.kind === KIND.LOBBY && showLobby(m) });
 }
 
 async function ensurePlayerQuietly() {

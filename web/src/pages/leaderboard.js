@@ -4,6 +4,7 @@
 // checks before it enters. A claim is made as a player (its token): the stored one if it has
 // the name typed, else a new guest of that name.
 import { currentPlayer, get, post, register, storedPlayer } from "../net/api.js";
+import { KIND, LEADERBOARD } from "../net/protocol.js";
 import { Subscription } from "../net/relay.js";
 import { GAME_NAMES, GAMES } from "../lib/looks.js";
 import { playerLink } from "../lib/players.js";
@@ -90,7 +91,7 @@ async function main() {
   const board = await get(`/api/leaderboard/${game}`);
   showRanks(board.ranks);
   show(board.breaks);
-  new Subscription("public-leaderboard", { onMessage: (m) => m.kind === "leaderboard" && m.game === game && show(m.breaks) });
+  new Subscription(LEADERBOARD, { onMessage: (m) => m.kind === KIND.LEADERBOARD && m.game === game && show(m.breaks) });
 }
 
 main().catch((e) => {

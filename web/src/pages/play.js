@@ -162,6 +162,7 @@ class PlayPage {
     const shooting = this.state.turnOf(this.me) === "shot";
     const shot = shooting ? this.state.shot : null;
     showDeclarations($("extras"), shot);
+    this.blocked = false;
     // A called pocket is ringed on the table as soon as it is chosen.
     this.view3d.markPocket(null);
     $("extras").querySelector('select[name="call"]')?.addEventListener("change", (e) => this.view3d.markPocket(e.target.value || null));
@@ -170,11 +171,15 @@ class PlayPage {
     this.controls.setEnabled(shot ? v.next.cue_ball : null, { placing: shot?.place ?? null });
     if (shot) {
       this.ensureCueBall();
-      const heading = aimAtTarget(this.view3d, v.next.cue_ball, shot.targets);
-      if (heading != null) this.controls.set({ heading });
+      const aimed = aimAtTarget(this.view3d, v.next.cue_ball, shot.targets);
+      this.blocked = aimed?.clear === false; // no straight line to a legal ball from here
+      if (aimed) this.controls.set({ heading: aimed.heading });
     }
     this.render();
     this.practice?.shown();
+    // /practice/{game} opens the player's running practice or a new one: once this one is
+    // over, the address becomes the table's own, so that a reload shows it, replays and all.
+    if (v.status === "over" && location.pathname.startsWith("/practice/")) history.replaceState(null, "", `/table/${v.id}`);
     countShown(v.version);
   }
 
@@ -225,7 +230,14 @@ class PlayPage {
     }
     const { decided } = this.state;
     if (v.status === "over" && v.winner != null) {
-      $("status").textContent = `Match over. ${resultWords(v, decided)} ${scoreWords(v)}`;
+      $("status").textContent = `Match over. ${resultWords(v)} ${scoreWords(v)}`;
+      return;
+    }
+    if (v.status === "open") {
+      // Nothing is played before the opponent comes: only what to do about it.
+      const lobby = v.options.private ? "" : ", or wait for a player from the lobby";
+      const invite = this.mine === null ? `Join this table to play ${seatName(v, 0)}.` : `Send this table's link to your opponent${lobby}.`;
+      $("status").textContent = [this.notice, nextWords(v), invite].filter(Boolean).join(" ");
       return;
     }
     const words = decided ? outcomeWords(v, decided) : v.last_outcome?.void ? `The shot could not be played (${v.last_outcome.void}).` : "";
@@ -247,12 +259,14 @@ class PlayPage {
     box.hidden = !contact || contact.legal === null;
     if (box.hidden) return;
     box.className = `contact ${contact.legal ? "legal" : "foul"}`;
-    const legal = [...new Set(this.state.shot.targets.map(ballWords))].slice(0, 3);
-    box.textContent = contact.legal ? `Aiming at ${ballWords(contact.ball)}: a legal first contact.` : `Aiming at ${ballWords(contact.ball)}: hitting it first is a foul (hit ${legal.join(" or ")}).`;
+    const legal = [...new Set(this.state.shot.targets.map(ballWords))].slice(0, 3).join(" or ");
+    const blocked = this.blocked ? ` No straight line to ${legal} is clear from here: go off a cushion.` : "";
+    box.textContent = contact.legal ? `Aiming at ${ballWords(contact.ball)}: a legal first contact.` : `Aiming at ${ballWords(contact.ball)}: hitting it first is a foul (hit ${legal}).${blocked}`;
   }
 
   tick() {
-    if (this.state.goneSeat() >= 0) {
+    // (Also once the gone player is back, or the match is over: the banner goes.)
+    if (this.state.goneSeat() >= 0 || this.goneShown) {
       this.presenceBanner();
       const claim = this.state.claimable();
       if (claim !== this.claimShown) this.actions(this.mine);
@@ -283,6 +297,7 @@ class PlayPage {
     if (overlap(t, v.state.balls, cue, at)) at = freePlace(t, region, v.state.balls, cue, at);
     if (!at) return;
     this.placement = at;
+    this.blocked = false; // (from elsewhere a straight line may be clear)
     this.view3d.setBalls({ ...v.state.balls, [cue]: at });
     this.controls.show();
   }
@@ -360,6 +375,7 @@ class PlayPage {
 
   async join() {
     this.me = await ensurePlayer();
+    await this.match.noteRating(this.state.view.game); // (a visitor had no rating to note)
     try {
       await this.session.action("join");
     } catch (e) {
@@ -377,7 +393,9 @@ class PlayPage {
 
   presenceBanner() {
     const gone = this.state.goneSeat();
-    if (gone < 0) return this.banner(null);
+    const shown = this.goneShown;
+    this.goneShown = gone >= 0;
+    if (gone < 0) return shown && this.banner(null);
     const until = this.state.grace[gone];
     const left = until ? Math.max(0, Math.ceil(until - Date.now() / 1000)) : null;
     const wait = left ? ` (the win may be claimed in ${left} s)` : left === 0 ? " (the win may be claimed)" : "";

@@ -5,9 +5,12 @@
 // - a table (20 hex digits): the outcomes published on its channel (its shots so far, from the
 //   relay's buffer, and each new one as it is played).
 import { ApiError, get } from "../net/api.js";
+import { GAME_NAMES } from "../lib/looks.js";
+import { KIND } from "../net/protocol.js";
 import { Subscription } from "../net/relay.js";
+import { nameElement } from "../play/profile.js";
 import { TableSounds } from "../play/sound.js";
-import { decisionWords, playerName } from "../play/words.js";
+import { decisionWords, playerName, rackUnit } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableScene } from "../three/view.js";
 import { tableFor } from "../play/tables.js";
@@ -174,13 +177,48 @@ async function replayShots(id) {
   return { shots };
 }
 
+/** The table a replay was played at, while the server still keeps it (a finished table is
+ *  dropped a day after its end), else null. */
+async function tableOf(replay) {
+  if (!replay.table) return null;
+  try {
+    return await get(`/api/tables/${replay.table}`);
+  } catch (e) {
+    if (e instanceof ApiError && e.code === "not_found") return null;
+    throw e;
+  }
+}
+
+/** The names a replay's shots are told with: its seats; a replay with one person in it (a
+ *  practice rack, a claimed break) is that person's, whichever side a shot was played from. */
+function replayView(replay, table) {
+  const people = replay.players.filter(Boolean);
+  if (people.length === 1) return { game: replay.game, mode: "practice", seats: [people[0], null] };
+  return { game: replay.game, mode: table?.mode ?? "match", seats: replay.players };
+}
+
+/** What the replay is, above its shots: the rack and game, and for a rack the match did not
+ *  finish (its last state is not over) why, as far as the table, while kept, says. */
+function aboutWords(replay, table, shots) {
+  const unit = rackUnit(replay.game);
+  const what = `${unit.charAt(0).toUpperCase()}${unit.slice(1)} ${replay.rack} of ${GAME_NAMES[replay.game] ?? replay.game}.`;
+  const last = shots[shots.length - 1];
+  if (!last || last.state.over) return what;
+  const loser = table?.winner != null ? playerName(table, 1 - table.winner) : null;
+  let why = "the match ended during it";
+  if (table?.mode === "practice") why = "the practice was ended here";
+  else if (loser && table.ended === "resigned") why = `${loser} resigned here`;
+  else if (loser && table.ended === "claimed") why = `${loser} left and the win was claimed`;
+  return `${what} Not finished: ${why}.`;
+}
+
 async function openRack(id, tables) {
   const replay = await get(`/api/replays/${id}`);
-  const table = replay.table ? await get(`/api/tables/${replay.table}`) : null;
-  const view = { game: replay.game, mode: table?.mode ?? "match", seats: replay.players };
-  const page = new ReplayPage(id, view, tableFor(tables, replay.game, replay.record.setup.size));
+  const table = await tableOf(replay);
+  const page = new ReplayPage(id, replayView(replay, table), tableFor(tables, replay.game, replay.record.setup.size));
   page.say(`Rack ${replay.rack} of ${replay.game}: loading its shots...`);
   const { shots } = await replayShots(id);
+  $("about").textContent = aboutWords(replay, table, shots);
   // The replay's states are the rack's own, its last one where the rack ended.
   page.add(shots.map((s, i) => ({ key: i, seat: s.player, input: s.input, decision: s.decision, trajectory: s.trajectory, rest: s.state.balls })));
   return page;
@@ -197,7 +235,7 @@ async function openTable(id, tables) {
   const view = await get(`/api/tables/${id}`);
   const page = new ReplayPage(id, view, tableFor(tables, view.game, view.options.size));
   page.view3d.setBalls(view.state.balls);
-  new Subscription(view.channel, { onMessage: (m) => m.kind === "outcome" && m.trajectory && page.add([outcomeShot(m)]) });
+  new Subscription(view.channel, { onMessage: (m) => m.kind === KIND.OUTCOME && m.trajectory && page.add([outcomeShot(m)]) });
   return page;
 }
 
@@ -207,9 +245,11 @@ async function main() {
   const page = await (id.length === 24 ? openRack(id, tables) : openTable(id, tables));
   document.title = `billiards: replay (${page.view.game})`;
   const box = $("players");
+  const { view } = page;
   for (const seat of [0, 1]) {
+    const player = view.seats[view.mode === "practice" ? 0 : seat]; // practice: one person
     const name = document.createElement("span");
-    name.textContent = playerName(page.view, seat);
+    name.append(nameElement(player, playerName(view, seat)));
     box.append(name, document.createElement("span"));
   }
   // The replay shows the table from above, where every ball can be followed.

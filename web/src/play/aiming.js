@@ -10,9 +10,10 @@ const BOT_PAUSE_MS = 450;
 
 const degrees = (radians) => (radians * 180) / Math.PI;
 
-/** A heading (degrees) from cue ball `cue` whose first ball is one of `targets`, the nearest
- *  target tried first and a few degrees either side of its centre if another ball is in the
- *  way; the nearest target's centre if none is clear; null without targets on the table. */
+/** {heading (degrees), clear} from cue ball `cue`: a heading whose first ball is one of
+ *  `targets` (clear), the nearest target tried first and a few degrees either side of its
+ *  centre if another ball is in the way; if no straight line is clear, the nearest target's
+ *  centre (not clear: a cushion first, or a foul); null without targets on the table. */
 export function aimAtTarget(view3d, cue, targets) {
   const from = view3d.ballAt(cue);
   if (!from || !targets?.length) return null;
@@ -29,11 +30,11 @@ export function aimAtTarget(view3d, cue, targets) {
   for (const { p } of near) {
     const centre = degrees(Math.atan2(p[1] - from[1], p[0] - from[0]));
     for (let off = 0; off <= WIDEST; off += OFFSET_STEP) {
-      for (const h of off ? [centre + off, centre - off] : [centre]) if (legalAlong(h)) return h;
+      for (const h of off ? [centre + off, centre - off] : [centre]) if (legalAlong(h)) return { heading: h, clear: true };
     }
   }
   const p = near[0].p;
-  return degrees(Math.atan2(p[1] - from[1], p[0] - from[0]));
+  return { heading: degrees(Math.atan2(p[1] - from[1], p[0] - from[0])), clear: false };
 }
 
 const pause = (ms) => new Promise((resolve) => setTimeout(resolve, ms));

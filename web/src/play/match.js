@@ -2,7 +2,7 @@
 // once a match is over (who won and how, racks won, the rating change, the racks' replays) and
 // the rematch, which takes both players to the new table as soon as the server has made it.
 import { get } from "../net/api.js";
-import { seatName } from "./words.js";
+import { rackUnit, seatName } from "./words.js";
 
 function button(label, onClick, className = "") {
   const b = Object.assign(document.createElement("button"), { type: "button", textContent: label, className });
@@ -14,17 +14,19 @@ function el(tag, text, className = "") {
   return Object.assign(document.createElement(tag), { textContent: text, className });
 }
 
-/** How the match in view `v` (over, with a winner) was decided, in words. */
-export function resultWords(v, decided) {
+/** How the match in view `v` (over, with a winner) was decided, in words: the server's
+ *  `ended` (its racks, a resignation, or a claim after the loser left). */
+export function resultWords(v) {
   const winner = seatName(v, v.winner);
   const loser = seatName(v, 1 - v.winner);
-  const unit = v.game === "snooker" ? "frame" : v.game === "three_cushion" ? "game" : "rack";
+  const unit = rackUnit(v.game);
   const won = v.racks_won[v.winner];
-  // The last decision ended the match when it won the last rack the race needed; otherwise the
-  // match ended off the table: a resignation, or a claim after the loser left.
-  const onTable = decided?.decision?.over && decided.decision.winner === v.winner && won >= v.options.race_to;
-  const how = onTable ? `winning ${won} ${unit}${won === 1 ? "" : "s"} to ${v.racks_won[1 - v.winner]}` : v.presence[1 - v.winner] ? `${loser} resigned` : `${loser} left and the win was claimed`;
-  return `${winner} wins the match: ${how}.`;
+  const how = {
+    racks: `winning ${won} ${unit}${won === 1 ? "" : "s"} to ${v.racks_won[1 - v.winner]}`,
+    resigned: `${loser} resigned`,
+    claimed: `${loser} left and the win was claimed`,
+  }[v.ended];
+  return how ? `${winner} wins the match: ${how}.` : `${winner} wins the match.`;
 }
 
 export class MatchActions {
@@ -47,8 +49,8 @@ export class MatchActions {
   show(box, mine) {
     const v = this.page.state.view;
     const list = [];
+    if (mine !== null && v.status === "playing") list.push(...this.resignButtons(v.mode === "practice"));
     if (mine !== null && v.mode !== "practice") {
-      if (v.status === "playing") list.push(...this.resignButtons());
       if (this.page.state.claimable() && this.page.state.goneSeat() === 1 - mine) list.push(button("Claim the win", () => this.act("claim")));
       if (v.status === "open") list.push(button("Cancel", () => this.act("leave")));
     }
@@ -58,11 +60,13 @@ export class MatchActions {
     if (v.rematch_table && mine !== null) location.assign(`/table/${v.rematch_table}`);
   }
 
-  resignButtons() {
-    if (!this.confirming) return [button("Resign", () => this.confirm(true))];
+  /** Resign, asked first; on a practice table the same ends the practice (its rack, finished
+   *  or not, keeps its replay). */
+  resignButtons(practice) {
+    if (!this.confirming) return [button(practice ? "End practice" : "Resign", () => this.confirm(true))];
     return [
-      el("span", "Resign the match?", "confirm"),
-      button("Yes, resign", () => this.confirm(false, true), "danger"),
+      el("span", practice ? "End this practice?" : "Resign the match?", "confirm"),
+      button(practice ? "Yes, end it" : "Yes, resign", () => this.confirm(false, true), "danger"),
       button("Keep playing", () => this.confirm(false)),
     ];
   }
@@ -74,15 +78,22 @@ export class MatchActions {
   }
 
   resultPanel(mine) {
-    const { view: v, decided } = this.page.state;
+    const v = this.page.state.view;
     const panel = el("section", "", "result");
     panel.id = "result";
-    panel.append(el("h2", v.winner != null ? resultWords(v, decided) : "Match over."));
-    if (v.mode !== "practice") panel.append(el("p", `Racks won: ${seatName(v, 0)} ${v.racks_won[0]}, ${seatName(v, 1)} ${v.racks_won[1]}.`));
+    const unit = rackUnit(v.game);
+    const title = v.winner != null ? resultWords(v) : v.mode === "practice" ? "Practice over." : "Match over.";
+    panel.append(el("h2", title));
+    if (v.mode !== "practice") panel.append(el("p", `${unit[0].toUpperCase()}${unit.slice(1)}s won: ${seatName(v, 0)} ${v.racks_won[0]}, ${seatName(v, 1)} ${v.racks_won[1]}.`));
     const rating = el("p", "", "rating");
     panel.append(rating);
     this.showRating(rating, mine);
     if (this.page.state.replays.length) panel.append(this.replayList());
+    if (mine !== null && v.mode === "practice") {
+      const again = el("a", "Practise again", "button primary");
+      again.href = `/practice/${v.game}`;
+      panel.append(again);
+    }
     if (mine !== null && v.mode === "match") {
       const offered = v.rematch[1 - mine];
       if (offered && !v.rematch[mine]) panel.append(el("p", `${seatName(v, 1 - mine)} offers a rematch.`, "offer"));
@@ -111,12 +122,15 @@ export class MatchActions {
     this.ratingBefore = r?.ratings?.[game]?.rating ?? 1500;
   }
 
+  /** A link to the replay of every rack played (the server's list, so it survives a reload),
+   *  the last one marked unfinished when the match ended before its rack did. */
   replayList() {
+    const v = this.page.state.view;
     const box = el("div", "", "replays");
     box.id = "replays";
     box.append(el("span", "Replays: "));
-    for (const { rack, id } of this.page.state.replays) {
-      const link = el("a", `rack ${rack}`, "button");
+    for (const { rack, id, unfinished } of this.page.state.replays) {
+      const link = el("a", `${rackUnit(v.game)} ${rack}${unfinished ? " (unfinished)" : ""}`, "button");
       link.href = `/replay/${id}`;
       box.append(link);
     }

@@ -2,6 +2,7 @@
 // clock, and what a player of each game looks at between shots: eight-ball's groups with the
 // balls each has left, snooker's ball on and the points left on the table. All read from the
 // server's state; nothing here decides what is legal.
+import { nameElement } from "./profile.js";
 import { playerName } from "./words.js";
 
 /** Seconds left on the shot clock from which it is shown in alarm. */
@@ -38,7 +39,9 @@ export function showScoreboard(box, v) {
   for (const seat of [0, 1]) {
     const acting = v.status === "playing" && (v.mode === "practice" ? v.state.turn : v.next?.seat) === seat;
     const gone = v.presence?.[seat] === false && v.seats[seat] ? " (disconnected)" : "";
-    const name = span(`name${acting ? " to-act" : ""}`, playerName(v, seat) + gone);
+    const name = span(`name${acting ? " to-act" : ""}`, "");
+    const player = v.seats[v.mode === "practice" ? 0 : seat]; // practice: one person, both sides
+    name.append(nameElement(player, player ? playerName(v, seat) : "(open seat)"), gone);
     if (v.game === "eightball") name.append(span("group muted", ` ${groupWords(v.state, seat)}`));
     box.append(name, span("score", String(v.state.scores[seat])));
   }

@@ -4,7 +4,7 @@
 // relay reports, fetches the full view again. Outcomes are handed on one at a time, each after
 // the previous one's animation has finished.
 import { get, post, shotId } from "../net/api.js";
-import { HEARTBEAT_MS } from "../net/protocol.js";
+import { HEARTBEAT_MS, KIND } from "../net/protocol.js";
 import { Subscription } from "../net/relay.js";
 
 export class TableSession {
@@ -54,17 +54,17 @@ export class TableSession {
       return;
     }
     const { kind } = message;
-    if (kind === "chat") return this.h.onChat?.(message);
-    if (kind === "presence") return this.h.onPresence?.(message);
-    if (kind === "aim") return message.version === this.version && this.h.onAim?.(message);
-    if (kind !== "outcome" && kind !== "table") return;
+    if (kind === KIND.CHAT) return this.h.onChat?.(message);
+    if (kind === KIND.PRESENCE) return this.h.onPresence?.(message);
+    if (kind === KIND.AIM) return message.version === this.version && this.h.onAim?.(message);
+    if (kind !== KIND.OUTCOME && kind !== KIND.TABLE) return;
     if (message.version <= this.version) return;
     if (message.version > this.version + 1) {
       this.resync();
       return;
     }
     this.version = message.version;
-    if (kind === "table") this.enqueue(() => this.h.onView(message.view));
+    if (kind === KIND.TABLE) this.enqueue(() => this.h.onView(message.view));
     else this.enqueue(() => this.h.onOutcome(message));
   }
 

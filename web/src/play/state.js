@@ -3,28 +3,30 @@
 // message), an `outcome` or a `presence` message; everything the page shows is drawn from
 // here. It holds no rules: what the next shot may carry, what is legal to hit first and where
 // the cue ball may go are the server's `next` (Constraints, with `next.shot` its ShotRules).
+import { KIND } from "../net/protocol.js";
+
+/** How a match ended off the table (TableView.ended): its last rack's replay is unfinished. */
+const ENDED_OFF_TABLE = ["resigned", "claimed"];
 
 export class TableState {
   constructor() {
     this.view = null; // the TableView as the last message applied leaves it
     this.decided = null; // the last outcome with a referee's decision, or null
     this.grace = [null, null]; // per seat: when the opponent may claim (presence messages)
-    this.replays = []; // {rack, id} of every rack seen to end with a replay, oldest first
   }
 
   /** Apply one server message: a TableView, or a channel message of kind `table`, `outcome`
    *  or `presence`. Versions are checked before (session.js): this applies what it is given. */
   apply(message) {
-    if (message.kind === "outcome") this.applyOutcome(message);
-    else if (message.kind === "presence") this.applyPresence(message);
-    else this.applyView(message.kind === "table" ? message.view : message);
+    if (message.kind === KIND.OUTCOME) this.applyOutcome(message);
+    else if (message.kind === KIND.PRESENCE) this.applyPresence(message);
+    else this.applyView(message.kind === KIND.TABLE ? message.view : message);
   }
 
   applyView(view) {
     this.view = structuredClone(view);
     const last = view.last_outcome;
     if (last?.decision) this.decided = last;
-    if (last) this.noteReplay(last);
   }
 
   applyOutcome(message) {
@@ -32,7 +34,11 @@ export class TableState {
     for (const key of fields) this.view[key] = message[key];
     this.view.last_outcome = message;
     if (message.decision) this.decided = message;
-    this.noteReplay(message);
+    // The outcome that ends a rack carries its replay, the table's next one in rack order.
+    if (message.replay && !this.view.replays.includes(message.replay)) this.view.replays.push(message.replay);
+    // A match an outcome ends was decided by its racks (the server's other endings, a
+    // resignation or a claim, come as a whole view).
+    if (message.status === "over") this.view.ended = "racks";
   }
 
   applyPresence(message) {
@@ -41,12 +47,14 @@ export class TableState {
     this.grace = message.grace_until ?? [null, null];
   }
 
-  noteReplay(outcome) {
-    if (!outcome.replay || this.replays.some((r) => r.id === outcome.replay)) return;
-    // The outcome that ends a rack carries that rack's replay; `rack` is already the next one's
-    // number when the match goes on.
-    const rack = outcome.status === "playing" ? outcome.rack - 1 : outcome.rack;
-    this.replays.push({ rack, id: outcome.replay });
+  /** The table's replays as the server lists them (TableView.replays: rack 1 first, every
+   *  finished rack, then the rack being played when the match ended off the table if a shot
+   *  was played in it), each {rack, id, unfinished}. */
+  get replays() {
+    const v = this.view;
+    if (!v) return [];
+    const cut = v.status === "over" && ENDED_OFF_TABLE.includes(v.ended) ? v.rack : null;
+    return v.replays.map((id, i) => ({ rack: i + 1, id, unfinished: i + 1 === cut }));
   }
 
   /** The seat of player `me` ({id}), or null (a spectator, or nobody signed in). */

@@ -22,6 +22,11 @@ export const REGION_WORDS = {
   D: "in the D",
 };
 
+/** What one game of a match is called: a snooker frame, a three-cushion game, a pool rack. */
+export function rackUnit(game) {
+  return game === "snooker" ? "frame" : game === "three_cushion" ? "game" : "rack";
+}
+
 export function optionWords(option) {
   return OPTION_WORDS[option] ?? option;
 }
@@ -106,6 +111,7 @@ export function nextWords(view) {
   if (view.status === "open") return "Waiting for an opponent.";
   if (view.status === "cancelled") return "This table was cancelled.";
   if (view.status === "over") {
+    if (view.mode === "practice") return "Practice over.";
     return view.winner != null ? `Match over: ${seatName(view, view.winner)} wins.` : "Match over.";
   }
   const next = view.next;
