@@ -61,18 +61,19 @@ class MemoryBackend(Backend):
         self, channel: str, data: bytes, content_type: str, event: str | None = None
     ) -> Published:
         now = self._clock()
-        state = self._channels.setdefault(channel, _Channel())
+        state = self._channels.get(channel)
+        if state is None:
+            state = self._channels[channel] = _Channel()
         seconds = int(now)
         if state.last_key is None or seconds > state.last_key[0]:
             key = (seconds, 0)
         else:  # same second, or the clock stepped back: stay after the previous id
             key = (state.last_key[0], state.last_key[1] + 1)
-        message = StoredMessage(
-            channel, format_message_id(key), content_type, data, now, event, key
-        )
+        message_id = format_message_id(key)
+        message = StoredMessage(channel, message_id, content_type, data, now, event, key)
         state.last_key = key
         state.born_key = state.born_key or key
-        state.messages.append((key, message.id, content_type, data, now, event))
+        state.messages.append((key, message_id, content_type, data, now, event))
         state.data_bytes += len(data)
         self._expire(state, now)
         subscribers = self.local_subscribers(channel)
