@@ -43,9 +43,7 @@ Redis AOF with fsync on every write) except that the publish rate limit is raise
 generator is one publisher. The bare forwarder is the ceiling of this stack: an aiohttp app that
 only copies POSTed bytes to the channel's WebSockets. nchan is Debian's nginx +
 libnginx-mod-nchan with a generated config; its row reads "unavailable" if nginx is missing.
-The `-uvloop` targets are the same servers on uvloop's event loop (`billiards serve --uvloop`);
-they read "unavailable" if uvloop is not installed. Ratios compare a relay with the bare
-forwarder on the same loop, and the uvloop relay with the asyncio bare forwarder too.
+Ratios compare each relay with the bare forwarder and nchan, and Redis with memory.
 
 The machine is shared and small: figures are noisy, compare columns of one run only.
 """
@@ -56,7 +54,6 @@ import argparse
 import asyncio
 import concurrent.futures
 import gc
-import importlib.util
 import json
 import multiprocessing
 import os
@@ -84,10 +81,9 @@ if str(ROOT) not in sys.path:
 
 SECRET = "bench-relay-secret-0123456789-0123456789"
 HOST = "127.0.0.1"
-RELAYS = ("memory", "redis", "memory-uvloop", "redis-uvloop")
-REFERENCES = ("bare", "nchan", "bare-uvloop")
-TARGETS = ("memory", "redis", "bare", "nchan", "memory-uvloop", "redis-uvloop", "bare-uvloop")
-UVLOOP = "-uvloop"
+RELAYS = ("memory", "redis")
+REFERENCES = ("bare", "nchan")
+TARGETS = ("memory", "redis", "bare", "nchan")
 NGINX = "/usr/sbin/nginx"
 NCHAN_MODULE = "/usr/lib/nginx/modules/ngx_nchan_module.so"
 FD_LIMIT = 20_000
@@ -172,16 +168,14 @@ def relay_app(redis_url: str | None) -> web.Application:
     return create_app(AppSettings(relay=relay, redis_url=redis_url))
 
 
-def serve(kind: str, port: int, redis_url: str | None, use_uvloop: bool) -> None:
+def serve(kind: str, port: int, redis_url: str | None) -> None:
     """Entry point of a server process (`--serve`)."""
     from server.http import collector
-    from server.http.serve import new_event_loop
 
     app = bare_app() if kind == "bare" else relay_app(redis_url)
     if kind == "relay":
         collector.install(app)  # as `billiards serve` does
-    loop = new_event_loop(use_uvloop)
-    web.run_app(app, host=HOST, port=port, print=None, access_log=None, loop=loop)
+    web.run_app(app, host=HOST, port=port, print=None, access_log=None)
 
 
 def wait_for_port(port: int, process: subprocess.Popen[bytes], what: str) -> None:
@@ -370,11 +364,8 @@ def start_target(target: str, stack: ExitStack) -> ServerProcess | None:
         )
         args = [NGINX, "-p", str(directory), "-c", str(conf), "-e", str(directory / "error.log")]
         return stack.enter_context(NginxProcess(args, "nchan", port))
-    base, use_uvloop = target.removesuffix(UVLOOP), target.endswith(UVLOOP)
-    if use_uvloop and importlib.util.find_spec("uvloop") is None:
-        return None
     redis_url, redis_pid = None, None
-    if base == "redis":
+    if target == "redis":
         from tests.redis_server import RedisServer
 
         redis = RedisServer(Path(stack.enter_context(tempfile.TemporaryDirectory(prefix="r-"))))
@@ -383,10 +374,9 @@ def start_target(target: str, stack: ExitStack) -> ServerProcess | None:
         redis_url = redis.url
         assert redis.process is not None
         redis_pid = redis.process.pid
-    kind = "bare" if base == "bare" else "relay"
+    kind = "bare" if target == "bare" else "relay"
     args = [sys.executable, __file__, "--serve", kind, "--port", str(port)]
     args += ["--redis", redis_url] if redis_url else []
-    args += ["--uvloop"] if use_uvloop else []
     return stack.enter_context(ServerProcess(args, target, port, redis_url, redis_pid))
 
 
@@ -616,20 +606,14 @@ def ratio(value: float | None, reference: float | None) -> str:
 
 
 def compared(names: list[str]) -> list[tuple[str, str]]:
-    """(relay, reference) pairs to show as ratios: same event loop, or nchan, or uvloop relay
-    against the asyncio bare forwarder."""
+    """(relay, reference) pairs to show as ratios: each relay against each reference, and
+    Redis against memory."""
     return [
         (relay, reference)
         for relay in RELAYS
         for reference in REFERENCES
-        if relay in names
-        and reference in names
-        and (reference in ("nchan", "bare") or relay.endswith(UVLOOP) == reference.endswith(UVLOOP))
-    ] + [
-        (redis, redis.replace("redis", "memory"))
-        for redis in ("redis", "redis-uvloop")
-        if redis in names and redis.replace("redis", "memory") in names
-    ]
+        if relay in names and reference in names
+    ] + ([("redis", "memory")] if {"redis", "memory"} <= set(names) else [])
 
 
 def print_table(header: list[str], lines: list[list[str]]) -> None:
@@ -654,21 +638,31 @@ def report(results: dict[str, dict[str, float] | None], sizes: Sizes) -> None:
         print_table(["ratio", *(f"{a}/{b}" for a, b in pairs)], ratios)
     for name in RELAYS:
         got = results.get(name)
-        bare = results.get("bare-uvloop" if name.endswith(UVLOOP) else "bare")
+        bare = results.get("bare")
         if not got:
             continue
         redis_bars = []
-        if "redis" in name:
-            memory = results.get(name.replace("redis", "memory"))
+        if name == "redis":
+            memory = results.get("memory")
             redis_bars = [
                 "pairs >= 80% of memory: "
                 + (ratio(got["pairs_rate"], memory["pairs_rate"]) if memory else "-"),
+                "pairs CPU <= 1.2 x (memory + Redis's own): "
+                + (
+                    ratio(got["pairs_cpu"], memory["pairs_cpu"] + got["pairs_redis_cpu"])
+                    if memory
+                    else "-"
+                ),
                 f"Redis connections {got['fanout_redis']:.0f} at 1 channel, "
                 f"{got['pairs_redis']:.0f} at 1,000",
             ]
         bars = [
             f"fan-out >= 80% of bare aiohttp: "
             f"{ratio(got['fanout_rate'], bare['fanout_rate']) if bare else '-'}",
+            f"pairs CPU per delivery <= 1.25 x bare: "
+            f"{ratio(got['pairs_cpu'], bare['pairs_cpu']) if bare else '-'}",
+            f"pairs msg/s >= 0.8 of bare: "
+            f"{ratio(got['pairs_rate'], bare['pairs_rate']) if bare else '-'}",
             f"{sizes.capacity:,} subscribers held: {got['held']:,.0f}, "
             f"{got['kb_per_conn']:.1f} KB each (bar 20 KB)",
             f"p99 at half load: fan-out {got['fanout_p99']:.1f} ms, "
@@ -693,11 +687,10 @@ def main() -> int:
     parser.add_argument("--serve", choices=("bare", "relay"), help=argparse.SUPPRESS)
     parser.add_argument("--port", type=int, help=argparse.SUPPRESS)
     parser.add_argument("--redis", help=argparse.SUPPRESS)
-    parser.add_argument("--uvloop", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args()
     raise_fd_limit()
     if args.serve:
-        serve(args.serve, args.port, args.redis, args.uvloop)
+        serve(args.serve, args.port, args.redis)
         return 0
     sizes = QUICK if args.quick else FULL
     targets = [t for t in args.targets.split(",") if t]

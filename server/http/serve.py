@@ -7,9 +7,8 @@ created 0600 on first run and checked at every start: server/storage/signing_key
 also says how to rotate it). Replicas sharing one Redis must check each other's tokens, so
 they share the key through the environment variable.
 
-`--uvloop` runs the server on uvloop's event loop (libuv) instead of asyncio's own: the same
-code, cheaper socket writes and callbacks (see the relay benchmark). uvloop is not a dependency:
-`pip install uvloop` first; asking for it without it installed is an error, not a fallback.
+The server runs on asyncio's own event loop. (A `--uvloop` option ran it on uvloop's; measured
+in bench/relay.py it saved nothing worth a second loop to test, docs/operations.md, so it went.)
 
 The process's garbage collector follows `server.http.collector` (its docstring says why).
 """
@@ -17,21 +16,9 @@ The process's garbage collector follows `server.http.collector` (its docstring s
 from __future__ import annotations
 
 import argparse
-import asyncio
 import ipaddress
 import os
 from pathlib import Path
-
-
-def new_event_loop(use_uvloop: bool) -> asyncio.AbstractEventLoop:
-    """A fresh event loop: uvloop's if asked for (SystemExit naming the fix if missing)."""
-    if not use_uvloop:
-        return asyncio.new_event_loop()
-    try:
-        import uvloop
-    except ImportError:
-        raise SystemExit("--uvloop needs the uvloop package: pip install uvloop") from None
-    return uvloop.new_event_loop()
 
 
 def _serve(args: argparse.Namespace) -> int:
@@ -59,7 +46,7 @@ def _serve(args: argparse.Namespace) -> int:
     )
     app = create_app(settings)
     collector.install(app)
-    web.run_app(app, host=args.host, port=args.port, loop=new_event_loop(args.uvloop))
+    web.run_app(app, host=args.host, port=args.port)
     return 0
 
 
@@ -111,8 +98,5 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         type=int,
         metavar="N",
         help="subscriber connections one client address may hold (default: no cap)",
-    )
-    parser.add_argument(
-        "--uvloop", action="store_true", help="run on uvloop's event loop (pip install uvloop)"
     )
     parser.set_defaults(func=_serve)

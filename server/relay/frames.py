@@ -18,7 +18,7 @@ from functools import lru_cache
 
 from aiohttp import WSMsgType
 
-from server.relay.messages import ChannelClosed, ChannelInfo, Gap
+from server.relay.messages import CHANNEL_INFO, ChannelClosed, ChannelInfo, Gap
 from server.relay.payloads import MSGPACK
 
 _LINE_END = re.compile(r"\r\n|\r|\n")  # what the EventSource specification counts as a line end
@@ -38,7 +38,7 @@ def wants_json(accept: str | None) -> bool:
 def info_body(info: ChannelInfo, as_json: bool) -> tuple[str, str]:
     """(content type, body) of a channel info answer."""
     if as_json:
-        return INFO_JSON_TYPE, info.model_dump_json()
+        return INFO_JSON_TYPE, CHANNEL_INFO.dump_json(info).decode()
     last = info.last_message_id if info.last_message_id is not None else ""
     lines = (
         f"queued messages: {info.messages}",

@@ -61,23 +61,19 @@ class MemoryBackend(Backend):
         self, channel: str, data: bytes, content_type: str, event: str | None = None
     ) -> Published:
         now = self._clock()
-        state = self._channels.setdefault(channel, _Channel())
+        state = self._channels.get(channel)
+        if state is None:
+            state = self._channels[channel] = _Channel()
         seconds = int(now)
         if state.last_key is None or seconds > state.last_key[0]:
             key = (seconds, 0)
         else:  # same second, or the clock stepped back: stay after the previous id
             key = (state.last_key[0], state.last_key[1] + 1)
-        message = StoredMessage(
-            channel=channel,
-            id=format_message_id(key),
-            content_type=content_type,
-            data=data,
-            time=now,
-            event=event,
-        )
+        message_id = format_message_id(key)
+        message = StoredMessage(channel, message_id, content_type, data, now, event, key)
         state.last_key = key
         state.born_key = state.born_key or key
-        state.messages.append((key, message.id, content_type, data, now, event))
+        state.messages.append((key, message_id, content_type, data, now, event))
         state.data_bytes += len(data)
         self._expire(state, now)
         subscribers = self.local_subscribers(channel)
@@ -98,10 +94,8 @@ class MemoryBackend(Backend):
         self._expire(state, now)
         newer = [entry for entry in state.messages if after is None or entry[0] > after]
         page = [
-            StoredMessage(
-                channel=channel, id=id_, content_type=type_, data=data, time=time_, event=event
-            )
-            for _, id_, type_, data, time_, event in newer[:limit]
+            StoredMessage(channel, id_, type_, data, time_, event, key)
+            for key, id_, type_, data, time_, event in newer[:limit]
         ]
         evicted = after is not None and state.evicted_key is not None and state.evicted_key > after
         gap = evicted or unknown_history(after, state.born_key)

@@ -19,7 +19,7 @@ from pydantic.json_schema import models_json_schema
 from server.relay.frames import CLOSED_TYPE, GAP_TYPE
 from server.relay.http import ErrorBody
 from server.relay.ids import CHANNEL_PATTERN, MESSAGE_ID_PATTERN
-from server.relay.messages import ChannelClosed, ChannelInfo, Gap
+from server.relay.messages import CHANNEL_INFO, ChannelClosed, Gap
 from server.relay.payloads import JSON, MSGPACK
 
 _REF = "#/components/schemas/{model}"
@@ -66,8 +66,11 @@ _REFUSALS = {
 @cache
 def openapi_document() -> dict[str, Any]:
     _, schemas = models_json_schema(
-        [(model, "serialization") for model in (ChannelInfo, ErrorBody, Gap, ChannelClosed)],
+        [(model, "serialization") for model in (ErrorBody, Gap, ChannelClosed)],
         ref_template=_REF,
+    )
+    schemas["$defs"]["ChannelInfo"] = CHANNEL_INFO.json_schema(
+        mode="serialization", ref_template=_REF
     )
     body_types = {"application/json": {"schema": {}}, "application/msgpack": {"schema": {}}}
     return {

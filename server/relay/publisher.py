@@ -28,9 +28,15 @@ def _info_response(request: web.Request, info: ChannelInfo, status: int) -> web.
 
 
 async def _read_limited(request: web.Request, limit: int) -> bytes:
-    """The body, or RelayError(413) as soon as it is longer than `limit` (not read further)."""
-    if request.content_length is not None and request.content_length > limit:
-        raise RelayError(413, f"message of {request.content_length} bytes exceeds {limit}")
+    """The body, or RelayError(413) as soon as it is longer than `limit` (not read further).
+
+    A body of a known length within the limit is read at once; a chunked one a chunk at a
+    time, counted as it comes."""
+    length = request.content_length
+    if length is not None:
+        if length > limit:
+            raise RelayError(413, f"message of {length} bytes exceeds {limit}")
+        return await request.read()
     chunks, size = [], 0
     async for chunk in request.content.iter_chunked(64 * 1024):
         size += len(chunk)

@@ -10,8 +10,6 @@ import secrets
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from pydantic import ValidationError
-
 from server.relay.addresses import ConnectionCounts, Network, networks
 from server.relay.auth import TokenAuthority, TokenClaims
 from server.relay.backend import Backend
@@ -19,7 +17,14 @@ from server.relay.errors import RelayError
 from server.relay.ids import is_channel_id
 from server.relay.limits import RateLimiter
 from server.relay.messages import Event, Published
-from server.relay.payloads import ACCEPTED_TYPES, IncomingMessage, media_type
+from server.relay.payloads import (
+    ACCEPTED_TYPES,
+    EventNameError,
+    IncomingMessage,
+    PayloadError,
+    incoming,
+    media_type,
+)
 from server.relay.sendqueue import OutputBudget, SendQueue
 from server.relay.settings import RelaySettings
 
@@ -94,11 +99,11 @@ class Relay:
             accepted = " or ".join(ACCEPTED_TYPES)
             raise RelayError(415, f"unsupported content type {content_type!r}: send {accepted}")
         try:
-            return IncomingMessage(content_type=content_type or "", data=data, event=event)
-        except ValidationError as error:
-            first = error.errors()[0]
-            where = "X-EventSource-Event: " if first["loc"] == ("event",) else ""
-            raise RelayError(400, where + first["msg"]) from None
+            return incoming(content_type, data, event)
+        except EventNameError as error:
+            raise RelayError(400, f"X-EventSource-Event: {error}") from None
+        except PayloadError as error:
+            raise RelayError(400, str(error)) from None
 
     async def publish(
         self,

@@ -65,6 +65,7 @@ class _Writer:
         # Single-channel frames are the same for every subscriber of the channel: shared.
         self.shared = len(cursor.channels) == 1
         self.task: asyncio.Task[None] | None = None  # only while events wait (see `start`)
+        self.high = transport.get_write_buffer_limits()[1]  # a full buffer, in bytes
 
     def payload(self, event: Event) -> tuple[bytes, WSMsgType]:
         """The frame's payload and type (advancing the cursor past a message)."""
@@ -82,7 +83,7 @@ class _Writer:
     def frame(self, event: Event) -> bytes:
         """The whole frame of an event, shared between subscribers where it can be."""
         if self.shared and isinstance(event, StoredMessage):
-            self.cursor.advance(event.channel, event.id)
+            self.cursor.positions[event.channel] = event.id  # `advance`, without the text
             return message_frame(event.id, event.content_type, event.data, self.meta)
         return websocket_frame(*self.payload(event))
 
@@ -96,7 +97,7 @@ class _Writer:
         transport = self.transport
         if self.ws.closed or transport.is_closing():
             return False
-        if transport.get_write_buffer_size() >= transport.get_write_buffer_limits()[1]:
+        if transport.get_write_buffer_size() >= self.high:
             return False
         transport.write(self.frame(event))
         return True

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import jwt
 import pytest
 
@@ -10,6 +12,7 @@ from server.relay.backend import BackendConfig
 from server.relay.cursor import Cursor
 from server.relay.limits import RateLimiter
 from server.relay.memory import MemoryBackend
+from server.relay.payloads import JSON, MAX_DEPTH, PayloadError, decode
 
 
 class FakeClock:
@@ -112,3 +115,34 @@ def test_tokens_are_hs256_jwts_carrying_a_display_name() -> None:
     with pytest.raises(AuthError) as refused:
         authority.verify(unsigned)
     assert refused.value.status == 401
+
+
+ACCEPTED_JSON = [
+    b"[" + b"[1]," * 200 + b"[]]",  # many brackets, two levels: the count alone would refuse
+    b'["' + b"[" * 200 + b'"]',  # brackets inside a string are not nesting
+    b"[" * MAX_DEPTH + b"]" * MAX_DEPTH,
+    b'{"e": "1e999", "digits": "' + b"9" * 120 + b'"}',  # huge-looking text in strings only
+    b"[1" + b"0" * 400 + b"]",  # a large integer stays an integer
+    b"[1.5e308, -2e-400]",  # the largest finite floats and an underflow to 0.0
+]
+REFUSED_JSON = [
+    (b"[" * (MAX_DEPTH + 1) + b"]" * (MAX_DEPTH + 1), "deeper than"),
+    (b'[{"a": ' * 40 + b"1" + b"}]" * 40, "deeper than"),  # arrays and maps count alike
+    (b"[1" + b"0" * 400 + b".0]", "infinity"),  # no exponent, yet too large a float
+    (b'{"a": [2e308]}', "infinity"),
+    (b"[Infinity]", "Infinity"),
+    (b"[NaN]", "NaN"),
+    (b"[1,]", "malformed JSON"),
+    (b"[" * 70, "malformed JSON"),  # unbalanced: not nesting the parser can reach
+]
+
+
+@pytest.mark.parametrize("body", ACCEPTED_JSON)
+def test_json_bodies_within_the_rules_are_accepted(body: bytes) -> None:
+    assert decode(body, JSON) == json.loads(body)
+
+
+@pytest.mark.parametrize(("body", "says"), REFUSED_JSON)
+def test_json_bodies_outside_the_rules_are_refused_saying_why(body: bytes, says: str) -> None:
+    with pytest.raises(PayloadError, match=says):
+        decode(body, JSON)
