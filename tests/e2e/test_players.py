@@ -242,6 +242,9 @@ def test_a_three_cushion_race_to_five_from_the_lobby_form(open_page, server):
     table_id = create_with_form(ada, "three_cushion", target="5")
     bob = open_page(f"/table/{table_id}", who="Bob")
     join_as(bob, unique_name("Tb"))
+    # The table says what it is played to, for both players.
+    for page in (ada, bob):
+        page.wait_for_selector(".options-words:has-text('To 5 points.')", timeout=30_000)
     over = finish([Api(ada, server), Api(bob, server)], table_id)
     assert over["options"]["target"] == 5 and over["state"]["target"] == 5
     assert max(over["state"]["scores"]) == 5

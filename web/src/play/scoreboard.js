@@ -1,7 +1,9 @@
 // The scoreboard over the status line: each side's name and score, who is to act, the shot
-// clock, and what a player of each game looks at between shots: eight-ball's groups with the
+// clock, the options the table is played with ("race to 3, to 5 points"), and what a player of
+// each game looks at between shots: eight-ball's groups with the
 // balls each has left, snooker's ball on and the points left on the table. All read from the
 // server's state; nothing here decides what is legal.
+import { optionWords } from "../lib/options.js";
 import { nameElement } from "./profile.js";
 import { playerName } from "./words.js";
 
@@ -45,6 +47,8 @@ export function showScoreboard(box, v) {
     if (v.game === "eightball") name.append(span("group muted", ` ${groupWords(v.state, seat)}`));
     box.append(name, span("score", String(v.state.scores[seat])));
   }
+  const options = optionWords(v.game, v.options ?? {});
+  if (options) box.append(span("table-info options-words", `${options.charAt(0).toUpperCase()}${options.slice(1)}.`));
   if (v.game === "snooker") box.append(span("table-info", snookerWords(v.state)));
   const clock = span("clock", "");
   clock.id = "clock";
