@@ -34,13 +34,12 @@ import time
 import physics
 from rules.bot.candidates import Strokes, candidates
 from rules.bot.levels import Level
-from rules.bot.noise import draws, perturb, tournament
-from rules.bot.search import Report, state_key
-from rules.game import Outcome, Simulate, play
+from rules.bot.noise import Draw, draws, tournament
+from rules.bot.search import Report, played_under, state_key
+from rules.game import Outcome, Simulate
 from rules.inputs import PlayerInput, Shot
 from rules.pickers import pick
 from rules.racks import Game
-from rules.referee import referee
 from rules.state import State
 
 #: Playouts per decision, as in the contest baselines.
@@ -89,12 +88,9 @@ class Mcts:
         self.simulate = simulate
         self.last: Report | None = None
 
-    def _playout(self, state: State, shot: Shot, draw: tuple[float, ...]) -> float:
-        played = perturb(shot, self.noise, draw, referee(state.game).TABLE.R)
-        try:
-            return reward(state, play(state, played, self.simulate))
-        except physics.SimulationError:
-            return 0.0
+    def _playout(self, state: State, shot: Shot, draw: Draw) -> float:
+        outcome = played_under(state, shot, self.noise, draw, self.simulate)
+        return 0.0 if outcome is None else reward(state, outcome)
 
     def search(self, state: State) -> PlayerInput:
         """The most-tried of the discrete shots after PLAYOUTS playouts chosen by UCB1."""

@@ -37,7 +37,7 @@ from rules.bot.candidates import Candidate, Kind, candidates
 from rules.bot.levels import Level
 from rules.bot.noise import Draw, Noise, draws, perturb
 from rules.bot.value import WIN, outcome_value
-from rules.game import Simulate, play, scene, shot_position
+from rules.game import Outcome, Simulate, play, scene, shot_position
 from rules.inputs import Shot
 from rules.referee import table_of
 from rules.state import State
@@ -59,18 +59,24 @@ class Task:
     noise: Noise
 
 
+def played_under(
+    state: State, shot: Shot, noise: Noise, draw: Draw, simulate: Simulate = physics.simulate
+) -> Outcome | None:
+    """`shot` as a hand with `noise` plays it in `state` under the error `draw`: its outcome,
+    or None when the engine fails on it (a search values that as a loss)."""
+    played = perturb(shot, noise, draw, table_of(state).R)
+    try:
+        return play(state, played, simulate)
+    except physics.SimulationError:
+        return None
+
+
 def run_task(task: Task, simulate: Simulate = physics.simulate) -> tuple[float, ...]:
     """The value of each play of a task; a shot the engine fails on is valued as a loss."""
-    R = table_of(task.state).R
     values = []
     for d in task.draws:
-        shot = perturb(task.shot, task.noise, d, R)
-        try:
-            outcome = play(task.state, shot, simulate)
-        except physics.SimulationError:
-            values.append(-WIN)
-            continue
-        values.append(outcome_value(task.state, outcome, task.noise))
+        outcome = played_under(task.state, task.shot, task.noise, d, simulate)
+        values.append(-WIN if outcome is None else outcome_value(task.state, outcome, task.noise))
     return tuple(values)
 
 

@@ -9,9 +9,10 @@ reason. Nothing is stored: the link carries the whole position.
 from __future__ import annotations
 
 from server.game import refereeing
+from server.game.tables import set_up
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import practice_url
-from server.protocol.models import PositionShare, SharedPosition
+from server.protocol.models import PositionShare, SharedPosition, TableOptions
 
 
 def _view(setup: refereeing.Setup) -> SharedPosition:
@@ -29,12 +30,9 @@ def _view(setup: refereeing.Setup) -> SharedPosition:
 
 def share(request: PositionShare) -> SharedPosition:
     """The link of a player's position, once it is checked as a practice table checks one."""
-    options = {"reds": request.reds, "size": request.size}
-    try:
-        position = refereeing.checked_position(request.game, request.position, **options)
-    except refereeing.RuleError as error:
-        raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
-    return _view(refereeing.rack_setup(request.game, 0, 0, position=position, **options))
+    options = TableOptions(reds=request.reds, size=request.size)
+    position = set_up(request.game, options, request.position)
+    return _view(refereeing.rack_setup(request.game, options, 0, 0, position))
 
 
 def open_link(code: str) -> SharedPosition:

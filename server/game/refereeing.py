@@ -32,12 +32,15 @@ from rules.spots import STANDARD_SIZE, Point, in_region, is_free
 from rules.state import Decision, Region, State
 from rules.three_cushion import DEFAULT_TARGET
 from server.game import visits
+from server.protocol.models import TableOptions
 from server.protocol.trajectories import Trajectory, wire_trajectory
 
 #: The rules' code of a set-up position that cannot start a rack.
 BAD_POSITION = Refusal.BAD_POSITION.value
 #: A set-up position: ball id -> where it lies.
 Position = dict[str, Point]
+#: The options of a table created without any (a standard rack of each game).
+DEFAULT_OPTIONS = TableOptions()
 
 #: The seed of the server's bots: their noise draws are keyed by it and by the state.
 BOT_SEED = 0
@@ -108,49 +111,43 @@ def next_breaker(game: GameName, breaker: int) -> int:
 
 def rack_setup(
     game: GameName,
+    options: TableOptions,
     seed: int,
     breaker: int,
-    *,
-    reds: int = REDS_FULL,
-    target: int = 0,
-    size: int = STANDARD_SIZE,
     position: Position | None = None,
 ) -> Setup:
     """The rules' setup of a rack whose break goes to seat `breaker` (seats are the referee's
-    players, and a setup names its breaker), with the table's snooker reds, three-cushion
-    target and pool table size, from a set-up `position` (checked: `checked_position`) or
-    the game's own rack."""
+    players, and a setup names its breaker; seed: the table's seed plus the rack's number), at
+    the table's `options` that shape a rack (snooker's reds, three-cushion's target, pool's
+    table size), from a set-up `position` (checked: `checked_position`) or the game's own
+    rack."""
     return Setup(
         game=game,
         seed=seed,
         breaker=breaker,
-        reds=reds,
-        target=target,
-        size=size,
+        reds=options.reds,
+        target=options.target,
+        size=options.size,
         position=position,
     )
 
 
-def new_rack(game: GameName, seed: int, breaker: int, **options: object) -> State:
-    """The opening position of a rack, with `breaker` (a seat) to play the break (`options`:
-    those of `rack_setup`)."""
-    return start(rack_setup(game, seed, breaker, **options))  # type: ignore[arg-type]
+def new_rack(
+    game: GameName, seed: int, breaker: int, options: TableOptions = DEFAULT_OPTIONS
+) -> State:
+    """The opening position of a rack, with `breaker` (a seat) to play the break."""
+    return start(rack_setup(game, options, seed, breaker))
 
 
 def checked_position(
-    game: GameName,
-    position: Position,
-    *,
-    reds: int = REDS_FULL,
-    size: int = STANDARD_SIZE,
-    left: bool = False,
+    game: GameName, position: Position, options: TableOptions, left: bool = False
 ) -> Position:
     """A set-up position as the rules start it: a player's, on the bed and apart, in canonical
     steps; or (`left`) one a shot left, where the engine lets balls rest, to the bit
     (`rules.positions`). RuleError (BAD_POSITION) naming what is wrong when it cannot start a
     rack of `game` at these options."""
     check = check_start if left else check_position
-    return check(game, position, size, reds)
+    return check(game, position, options.size, options.reds)
 
 
 @functools.cache

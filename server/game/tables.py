@@ -119,8 +119,8 @@ class TableRecord(BaseModel):
 
     @property
     def setup(self) -> refereeing.Setup:
-        """The rules' setup of the rack being played (`rack_setup`)."""
-        return rack_setup(
+        """The rules' setup of the rack being played (`refereeing.rack_setup`)."""
+        return refereeing.rack_setup(
             self.game, self.options, self.seed + self.rack, self.breaker, self.position
         )
 
@@ -143,26 +143,6 @@ def chooser_of(bot: PlayerInfo) -> str:
     return bot.id.removeprefix("bot:")
 
 
-def rack_setup(
-    game: GameName,
-    options: TableOptions,
-    seed: int,
-    breaker: int,
-    position: refereeing.Position | None = None,
-) -> refereeing.Setup:
-    """The rules' setup of a rack of a table with these options (seed: the table's seed plus
-    the rack's number), from a set-up position or the game's own rack."""
-    return refereeing.rack_setup(
-        game,
-        seed,
-        breaker,
-        reds=options.reds,
-        target=options.target,
-        size=options.size,
-        position=position,
-    )
-
-
 def set_up(
     game: GameName, options: TableOptions, position: Position, left: bool = False
 ) -> Position:
@@ -170,9 +150,7 @@ def set_up(
     `refereeing.checked_position` says); BAD_POSITION saying what is wrong otherwise (nothing
     is stored)."""
     try:
-        return refereeing.checked_position(
-            game, position, reds=options.reds, size=options.size, left=left
-        )
+        return refereeing.checked_position(game, position, options, left)
     except refereeing.RuleError as error:
         raise ServiceError(ErrorCode.BAD_POSITION, error.reason) from None
 
@@ -185,7 +163,7 @@ def new_table(table_id: str, create: TableCreate, creator: PlayerInfo, seed: int
     options = create.options()
     position = None if create.position is None else set_up(create.game, options, create.position)
     now = time.time()
-    first = rack_setup(create.game, options, seed + 1, 0, position)
+    first = refereeing.rack_setup(create.game, options, seed + 1, 0, position)
     record = TableRecord(
         id=table_id,
         game=create.game,
@@ -306,7 +284,7 @@ def rerack(
     if position is not None:
         position = set_up(record.game, record.options, position, left)
     rack = record.rack + 1
-    setup = rack_setup(record.game, record.options, record.seed + rack, 0, position)
+    setup = refereeing.rack_setup(record.game, record.options, record.seed + rack, 0, position)
     return bump(
         record,
         rack=rack,
@@ -499,7 +477,7 @@ def played(
             rack = rack + 1
             practice = record.mode is Mode.PRACTICE
             breaker = 0 if practice else refereeing.next_breaker(record.game, breaker)
-            setup = rack_setup(
+            setup = refereeing.rack_setup(
                 record.game, record.options, record.seed + rack, breaker, record.position
             )
             state = refereeing.start(setup)

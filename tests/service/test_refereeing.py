@@ -28,7 +28,7 @@ def test_a_racks_record_replays_whoever_broke(game, breaker):
         assert result.void is None
         state = result.state
         played.append((action, state))
-    setup = refereeing.rack_setup(game, 11, breaker)
+    setup = refereeing.rack_setup(game, refereeing.DEFAULT_OPTIONS, 11, breaker)
     record = refereeing.rack_record(setup, played)
     again = replay(record)
     assert [step.state for step in again.steps] == [s for _, s in played]
