@@ -26,6 +26,7 @@ from collections.abc import AsyncIterator, Awaitable, Callable
 from contextlib import AbstractAsyncContextManager, asynccontextmanager, suppress
 from dataclasses import dataclass
 from typing import Annotated, Any, TypeVar
+from urllib.parse import quote
 
 import aiohttp
 from pydantic import BaseModel, Field, TypeAdapter, ValidationError
@@ -41,6 +42,7 @@ from server.protocol.models import (
     PlayerToken,
     PresenceMessage,
     QuickStatus,
+    SharedPosition,
     Status,
     TableList,
     TableMessage,
@@ -296,7 +298,7 @@ class GameClient:
         self._known.add(view.id)
         return view
 
-    async def quick(self, game: str) -> QuickStatus:
+    async def quick(self, game: str, **options: Any) -> QuickStatus:
         """Ask for a quick match. Never sent blindly twice: the server would queue a player
         whom the first request had paired (and might pair it again). After a lost answer the
         client asks where it stands (`GET /api/quick`) and sends again only if the first
@@ -307,10 +309,15 @@ class GameClient:
                 status = QuickStatus.model_validate_json(await self._attempt("GET", "/api/quick"))
                 if status.status != "idle":
                     return status
-            data = await self._attempt("POST", "/api/quick", {"game": game})
+            data = await self._attempt("POST", "/api/quick", {"game": game, **options})
             return QuickStatus.model_validate_json(data)
 
         return await self._retrying(attempt)
+
+    async def shared_position(self, code: str) -> SharedPosition:
+        """What a practice position's link code sets up (checked by the server)."""
+        data = await self.fetch("GET", f"/api/positions/{quote(code, safe='')}")
+        return SharedPosition.model_validate_json(data)
 
     # ----- playing ----------------------------------------------------------------------------
     async def send(

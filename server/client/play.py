@@ -1,13 +1,15 @@
 """`billiards play`, `watch` and `submit`: a match, a table's outcomes, a claimed break.
 
-Both talk to a server only through its public API (server/client/api_client.py). `play` registers a
-guest, gets a table (quick match, a new table, a private link, practice or the bot), then
-plays every shot its seat is to play with a shot chooser (`--bot picker`, the rules' shot
-pickers, by default; `--bot bot:N` the searching bot at level N, `--bot bot` its strongest)
-and prints each outcome as it arrives, one line each, until the match is over, sending the
-heartbeats a seated player owes meanwhile. `watch` prints a table's outcomes until it is over.
-Both ride out a connection that drops (server/client/api_client.py reconnects, resumes and resends
-what is safe to resend) and give up after `--patience` seconds without an answer.
+Both talk to a server only through its public API (server/client/api_client.py). `play`
+registers a guest, gets a table (quick match, a new table, a private link, practice or the
+bot; with the lobby's options: race, reds, target, table size, shot clock, a shared practice
+position, the bot's level), then plays every shot its seat is to play with a shot chooser
+(`--bot picker`, the rules' shot pickers, by default; `--bot bot:N` the searching bot at level
+N, `--bot bot` its strongest) and prints each outcome as it arrives, one line each, until the
+match is over, sending the heartbeats a seated player owes meanwhile. `watch` prints a table's
+outcomes until it is over. Both ride out a connection that drops (server/client/api_client.py
+reconnects, resumes and resends what is safe to resend) and give up after `--patience` seconds
+without an answer.
 `submit` sends a game record (as `billiards selfplay --record` writes it) and the claimed
 score to the leaderboard as a player: the one a token names (`--token` or BILLIARDS_TOKEN),
 or a guest it registers under `--name` (a claim is entered under its player's name, never a
@@ -27,7 +29,19 @@ from collections.abc import Awaitable, Callable
 from functools import partial
 from typing import TYPE_CHECKING
 
+from server.protocol.ids import BotName
 from server.protocol.models import OutcomeMessage, Status, TableView
+
+#: Each table option in words, as the first line prints those that are not the defaults.
+OPTION_WORDS = {
+    "race_to": "race to {}",
+    "shot_clock": "{} s shot clock",
+    "reds": "{} reds",
+    "target": "{} points",
+    "size": "{} ft table",
+}
+#: The server's bot a `--vs-bot` table gets unless `--level` says another.
+DEFAULT_LEVEL = BotName.LEVEL_3.value
 
 if TYPE_CHECKING:
     import aiohttp
@@ -56,20 +70,57 @@ def names_of(view: TableView) -> list[str]:
     return [seat.name if seat else "(empty)" for seat in view.seats]
 
 
+def misplaced(args: argparse.Namespace) -> list[tuple[str, str]]:
+    """Options given where they mean nothing (each with what it goes with): refused before
+    anything is sent, rather than silently dropped."""
+    found = []
+    if args.position and not args.practice:
+        found.append(("--position", "--practice"))
+    if args.shot_clock is not None and not (args.create or args.practice or args.vs_bot):
+        found.append(("--shot-clock", "--create, --practice or --vs-bot"))
+    if args.level != DEFAULT_LEVEL and not args.vs_bot:
+        found.append(("--level", "--vs-bot"))
+    if args.join and game_options(args):
+        found.append(("a table option", "a new table (a joined table has its own)"))
+    return found
+
+
+def table_words(view: TableView) -> str:
+    """The game and the options it is played with that are not the defaults."""
+    options = view.options.model_dump(exclude_defaults=True, exclude={"private"})
+    said = [OPTION_WORDS[key].format(value) for key, value in options.items()]
+    if view.position is not None:
+        said.append("from a set-up position")
+    return view.game + (f" ({', '.join(said)})" if said else "")
+
+
+def game_options(args: argparse.Namespace) -> dict[str, int]:
+    """The options asked for on the command line that shape the game (a quick match pairs
+    players who chose the same); the server checks them and refuses what it does not offer."""
+    asked = {"race_to": args.race_to, "reds": args.reds, "target": args.target, "size": args.size}
+    return {key: value for key, value in asked.items() if value is not None}
+
+
 async def _open_table(client: GameClient, args: argparse.Namespace) -> TableView:
     if args.join:
         from server.client.api_client import table_id_of
 
         return await client.join(table_id_of(args.join))
+    options = game_options(args)
+    if args.shot_clock is not None:
+        options["shot_clock"] = args.shot_clock
+    if args.position:
+        shared = await client.shared_position(args.position)
+        options.update(position=shared.position, size=shared.size, reds=shared.reds)
     if args.practice:
-        return await client.create(args.game, mode="practice")
+        return await client.create(args.game, mode="practice", **options)
     if args.vs_bot:
-        return await client.create(args.game, mode="bot")
+        return await client.create(args.game, mode="bot", bot=args.level, **options)
     if args.create:
-        view = await client.create(args.game, private=args.private)
+        view = await client.create(args.game, private=args.private, **options)
         print(f"waiting for an opponent: {client.base}/t/{view.id}", flush=True)
         return view
-    status = await client.quick(args.game)
+    status = await client.quick(args.game, **game_options(args))
     table_id = status.table if status.status == "paired" else await client.wait_paired()
     return await client.table(table_id)
 
@@ -123,11 +174,14 @@ async def play(args: argparse.Namespace) -> int:
         shoot = partial(_shoot_if_mine, chooser(args.bot, secrets.randbits(32)))
     except ValueError as error:
         raise Refused(0, "unknown_chooser", str(error)) from None
+    if wrong := misplaced(args):
+        flag, needs = wrong[0]
+        raise Refused(0, "bad_arguments", f"{flag} goes with {needs}")
     async with aiohttp.ClientSession() as session:
         client = _client(args, session)
         await client.register(args.name or f"cli-{secrets.token_hex(3)}")
         view = await _open_table(client, args)
-        print(f"table {view.id}: {view.game}, you are {client.player.name}", flush=True)
+        print(f"table {view.id}: {table_words(view)}, you are {client.player.name}", flush=True)
         async with client.heartbeats(view.id):
             await shoot(client, view.id, view)
             return await _print_changes(client, view, shoot)
@@ -212,6 +266,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     how.add_argument("--practice", action="store_true", help="a solo practice table")
     how.add_argument("--vs-bot", action="store_true", help="a table against the server's bot")
     parser.add_argument("--private", action="store_true", help="with --create: not listed")
+    _option_arguments(parser)
     parser.add_argument(
         "--bot", default="picker", help="shot chooser: picker (default), bot:N (level N), bot"
     )
@@ -237,6 +292,34 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("table", help="the table's id or link")
     _patience_option(parser)
     parser.set_defaults(func=_run(watch))
+
+
+def _option_arguments(parser: argparse.ArgumentParser) -> None:
+    """The table's options, as the lobby offers them (server.protocol.ids)."""
+    from server.protocol.ids import RACE_TO_MAX, SNOOKER_REDS, TABLE_SIZES, TARGET_MAX
+
+    parser.add_argument(
+        "--race-to", type=int, metavar="N", help=f"racks (frames, games) to win, 1-{RACE_TO_MAX}"
+    )
+    parser.add_argument("--reds", type=int, choices=SNOOKER_REDS, help="snooker's reds")
+    parser.add_argument(
+        "--target", type=int, metavar="N", help=f"three-cushion's points to win, 1-{TARGET_MAX}"
+    )
+    parser.add_argument("--size", type=int, choices=TABLE_SIZES, help="pool table size in feet")
+    parser.add_argument(
+        "--shot-clock", type=int, metavar="S", help="a new table's seconds per shot (0: none)"
+    )
+    parser.add_argument(
+        "--position",
+        metavar="CODE",
+        help="with --practice: start from a shared position (its link's code)",
+    )
+    parser.add_argument(
+        "--level",
+        choices=[b.value for b in BotName],
+        default=DEFAULT_LEVEL,
+        help="with --vs-bot: the server's bot (picker, bot:1 ... bot:5; default bot:3)",
+    )
 
 
 def _patience_option(parser: argparse.ArgumentParser) -> None:

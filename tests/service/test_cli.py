@@ -30,12 +30,15 @@ async def test_two_command_line_players_play_a_match_and_a_watcher_sees_it(
     server: TestClient,
 ) -> None:
     url = str(server.make_url("")).rstrip("/")
-    ada = await run("play", url, "nineball", "--quick", "--name", "Ada")
-    bob = await run("play", url, "nineball", "--quick", "--name", "Bob")
+    # A quick match on the 8 ft table: both ask for it, so they are paired with each other.
+    ada = await run("play", url, "nineball", "--quick", "--size", "8", "--name", "Ada")
+    bob = await run("play", url, "nineball", "--quick", "--size", "8", "--name", "Bob")
     (code_a, lines_a, err_a), (code_b, lines_b, err_b) = await asyncio.gather(
         finish(ada), finish(bob)
     )
     assert (code_a, code_b) == (0, 0), err_a + err_b
+    assert "nineball (60 s shot clock, 8 ft table)" in lines_a[0]
+    assert lines_a[0].split()[1] == lines_b[0].split()[1]
     assert lines_a[-1] == lines_b[-1] and "match over" in lines_a[-1]
     table = lines_a[0].split()[1].rstrip(":")
     code, lines, _ = await finish(await run("watch", url, f"{url}/t/{table}"))
@@ -50,6 +53,32 @@ async def test_a_refusal_exits_2_with_one_line(server: TestClient) -> None:
     assert code == 2 and len(err.strip().splitlines()) == 1
     code, _, err = await finish(await run("play", url, "nineball", "--bot", "bot:99"))
     assert code == 2 and err.startswith("refused: unknown_chooser:") and err.count("\n") == 1
+
+
+async def test_a_practice_table_starts_from_a_shared_position(server: TestClient) -> None:
+    url = str(server.make_url("")).rstrip("/")
+    balls = {"cue": [0.3, 0.4], "1": [0.5, 1.0], "9": [0.6, 1.3]}
+    shared = await server.post(
+        "/api/positions", json={"game": "nineball", "size": 7, "position": balls}
+    )
+    code = (await shared.json())["code"]
+    cy = await run("play", url, "nineball", "--practice", "--position", code, "--name", "Cy")
+    first = (await asyncio.wait_for(cy.stdout.readline(), WAIT_S)).decode()
+    cy.kill()
+    await cy.wait()
+    assert "nineball (7 ft table, from a set-up position), you are Cy" in first
+    view = await (await server.get(f"/api/tables/{first.split()[1].rstrip(':')}")).json()
+    assert view["options"]["size"] == 7 and set(view["position"]) == set(balls)
+
+
+async def test_options_given_where_they_mean_nothing_are_refused(server: TestClient) -> None:
+    url = str(server.make_url("")).rstrip("/")
+    code, _, err = await finish(await run("play", url, "nineball", "--position", "abc"))
+    assert code == 2 and err.strip() == "refused: bad_arguments: --position goes with --practice"
+    code, _, err = await finish(await run("play", url, "snooker", "--vs-bot", "--reds", "7"))
+    assert code == 2 and "--reds: invalid choice: 7" in err
+    code, _, err = await finish(await run("play", url, "nineball", "--create", "--race-to", "99"))
+    assert code == 2 and err.startswith("refused: bad_request:") and "race_to" in err
 
 
 async def test_submit_prints_the_verdict_or_the_reason(server: TestClient, tmp_path: Path) -> None:
