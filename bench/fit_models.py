@@ -5,12 +5,16 @@ spin on or off) every recorded shot's strike is fitted (`billiards fit`, physics
 table prints the median and p90 cue-ball RMSE, the median all-balls RMSE, the CPU per shot
 and per simulation, and whether the choice is within the measurement noise of the best: the
 90% bootstrap interval (shots resampled, paired, a fixed seed) of its median's difference
-from the best median reaches zero. The constants are the carom defaults unless --constants
-gives others; they were not fitted to these shots' strikes, so the figures are held out as
-far as the constants go. Writes the speed-against-error PNG; progress on stderr.
+from the best median reaches zero. Writes the speed-against-error PNG; progress on stderr.
 
-    .venv/bin/python bench/fit_models.py SHOTS.json [--constants FILE] [--out DIR]
-        [--json FILE] [--every N]
+The constants: with `--folds N` each choice is cross-validated, its own constants fitted on
+N-1 folds for the shots of the other (`billiards fit --fit-constants`' held-out figures,
+physics.fit_constants.held_out), so every choice is measured on shots its constants never
+saw and none is held to constants fitted with another's models. Without it, every choice
+plays at the carom defaults (or --constants), which were fitted with the default models.
+
+    .venv/bin/python bench/fit_models.py SHOTS.json [--folds N | --constants FILE]
+        [--out DIR] [--json FILE] [--every N]
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from physics.fit_batch import fit_all, process_pool
+from physics.fit_constants import held_out
 from physics.recorded import load
 
 #: The model choices compared (the scene's `models`; with spin off the others do not apply).
@@ -37,11 +42,15 @@ CHOICES = {
 RESAMPLES, SEED = 2000, 0
 
 
-def measure(recs, constants, pool) -> list[dict]:
-    """One row per model choice, each shot's cue RMSE kept for the bootstrap."""
+def measure(recs, constants, pool, folds: int | None = None) -> list[dict]:
+    """One row per model choice, each shot's cue RMSE kept for the bootstrap (held out over
+    `folds` when given)."""
     rows = []
     for name, models in CHOICES.items():
-        fitted = fit_all(recs, constants, models, pool)
+        if folds:
+            fitted = held_out(recs, models, folds, pool)[0]
+        else:
+            fitted = fit_all(recs, constants, models, pool)
         cue = [f.rmse_cm for f in fitted]
         cpu = sum(f.seconds for f in fitted)
         sims = sum(f.simulations for f in fitted)
@@ -75,7 +84,7 @@ def within_noise(rows: list[dict]) -> None:
         r["within_noise"] = bool(low <= 0.0)
 
 
-def figure(rows: list[dict], path: Path) -> Path:
+def figure(rows: list[dict], path: Path, held_out: bool) -> Path:
     """CPU per shot against the median cue-ball RMSE, one point per model choice, its bar the
     median's 90% bootstrap interval."""
     import matplotlib
@@ -92,7 +101,8 @@ def figure(rows: list[dict], path: Path) -> Path:
                     xytext=(5, 8 - 12 * (k % 3)), textcoords="offset points")  # fmt: skip
     ax.set_yscale("log")
     ax.set_xlabel("CPU per shot fitted (s)")
-    ax.set_ylabel("median cue-ball RMSE (cm, recorded units)")
+    which = "held-out median" if held_out else "median"
+    ax.set_ylabel(f"{which} cue-ball RMSE (cm, recorded units)")
     ax.set_title("Model choices against a real table: cost and error")
     ax.grid(alpha=0.3)
     fig.tight_layout()
@@ -105,16 +115,25 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("shots", type=Path, help="recorded shots (JSON)")
     parser.add_argument("--constants", type=Path, help="constants JSON (default: carom's)")
+    parser.add_argument(
+        "--folds", type=int, help="cross-validate each choice over N folds (its own constants)"
+    )
     parser.add_argument("--out", type=Path, default=Path("out"), help="PNG directory")
     parser.add_argument("--json", type=Path, help="also save the rows as JSON here")
     parser.add_argument("--every", type=int, default=1, help="fit every Nth shot only")
     args = parser.parse_args(argv)
     recs = load(args.shots)[:: args.every]
+    if args.folds and args.constants:
+        parser.error("--folds fits each choice's constants: --constants does not apply")
     constants = json.loads(args.constants.read_text()) if args.constants else {}
     with process_pool() as pool:
-        rows = measure(recs, constants, pool)
+        rows = measure(recs, constants, pool, args.folds)
     within_noise(rows)
-    print(f"{len(recs)} shots; constants: {constants or 'carom defaults'}")
+    if args.folds:
+        said = f"each choice's own, fitted on the other of {args.folds} folds (held out)"
+    else:
+        said = constants or "carom defaults"
+    print(f"{len(recs)} shots; constants: {said}")
     print(
         f"{'models':24s} {'median cm':>9s} {'p90 cm':>7s} {'all cm':>7s} {'CPU s/shot':>10s} "
         f"{'ms/sim':>7s} {'vs best (90%)':>16s}  within noise"
@@ -130,7 +149,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
     args.out.mkdir(parents=True, exist_ok=True)
-    png = figure(rows, args.out / "fit_models.png")
+    png = figure(rows, args.out / "fit_models.png", bool(args.folds))
     print(f"plot: {png}" + (f", rows: {args.json}" if args.json else ""))
     return 0
 

@@ -131,16 +131,11 @@ def _brief(constants: dict[str, float]) -> str:
     return ", ".join(f"{k} {v:.4g}" for k, v in constants.items())
 
 
-def cross_validate(
-    recs: Sequence[Recording],
-    models: dict[str, Any],
-    folds: int,
-    pool: Executor,
-    out: Path,
-) -> dict[str, Any]:
-    """Held-out figures over `folds` folds, then the constants fitted on every shot, written
-    to `out`; the report has the held-out rows and each fold's constants."""
-    began = time.perf_counter()
+def held_out(
+    recs: Sequence[Recording], models: dict[str, Any], folds: int, pool: Executor
+) -> tuple[list[Fitted], list[dict[str, float]], int]:
+    """Every shot fitted with constants fitted on the other folds (shot i is in fold i mod
+    `folds`): the fits in shot order, each fold's constants, and the simulations run."""
     held: dict[int, Fitted] = {}
     per_fold = []
     sims = 0
@@ -152,10 +147,24 @@ def cross_validate(
         sims += n + sum(f.simulations for f in fitted)
         held.update({i: f for (i, _), f in zip(held_out, fitted, strict=True)})
         per_fold.append(constants)
+    return [held[i] for i in range(len(recs))], per_fold, sims
+
+
+def cross_validate(
+    recs: Sequence[Recording],
+    models: dict[str, Any],
+    folds: int,
+    pool: Executor,
+    out: Path,
+) -> dict[str, Any]:
+    """Held-out figures over `folds` folds, then the constants fitted on every shot, written
+    to `out`; the report has the held-out rows and each fold's constants."""
+    began = time.perf_counter()
+    fitted, per_fold, sims = held_out(recs, models, folds, pool)
     constants, n = train(recs, models, pool, "all shots")
     sims += n
     out.write_text(json.dumps(constants, indent=1) + "\n")
-    report = summary([held[i] for i in range(len(recs))], time.perf_counter() - began)
+    report = summary(fitted, time.perf_counter() - began)
     report["simulations"] = sims
     report["simulations_per_second"] = sims / report["seconds"]
     report["held_out"] = f"each shot fitted with constants fitted on the other {folds - 1} folds"

@@ -126,3 +126,30 @@ def test_constants_are_fitted_and_held_out(tmp_path, monkeypatch):
     for k, (_, lo, hi) in fc.FITTED.items():
         assert lo <= written[k] <= hi
     assert len(report["fold_constants"]) == 2
+
+
+def test_the_model_table_holds_each_choice_out_with_its_own_constants(monkeypatch):
+    """bench/fit_models.py --folds: every choice is cross-validated, so a shot's figure comes
+    from constants fitted on the other fold with that choice's own models."""
+    import bench.fit_models as fm
+
+    monkeypatch.setattr(fc, "ROUNDS", 1)
+    monkeypatch.setattr(fc, "MAX_EVALS", 9)
+    trained: list[dict] = []
+    train = fc.train
+
+    def counted(recs, models, *rest):
+        trained.append(models)
+        return train(recs, models, *rest)
+
+    monkeypatch.setattr(fc, "train", counted)
+    choices = {k: fm.CHOICES[k] for k in ("mathavan + alciatore", "han + frictionless")}
+    monkeypatch.setattr(fm, "CHOICES", choices)
+    recs = load(SHOTS)
+    with ThreadPoolExecutor(1) as pool:
+        rows = fm.measure(recs, {}, pool, folds=2)
+    fm.within_noise(rows)
+    assert [r["models"] for r in rows] == list(choices)
+    assert trained == [choices[name] for name in choices for _fold in range(2)]
+    assert all(len(r["cue_cm"]) == len(recs) for r in rows)
+    assert sum(r["vs_best_cm"] == [0.0, 0.0] for r in rows) >= 1
