@@ -25,6 +25,8 @@ replica sends it. Keys, all prefixed `game:`:
 
 from __future__ import annotations
 
+import math
+
 import redis.asyncio as aioredis
 from redis.exceptions import RedisError
 
@@ -94,7 +96,11 @@ return 1
 _CLAIM = """
 local holder = redis.call('GET', KEYS[1])
 if holder and holder ~= ARGV[1] then return 0 end
-redis.call('SET', KEYS[1], ARGV[1], 'PX', ARGV[4])
+if tonumber(ARGV[4]) > 0 then
+  redis.call('SET', KEYS[1], ARGV[1], 'PX', ARGV[4])
+else  -- a claim that has lapsed already holds nothing (not even for a millisecond)
+  redis.call('DEL', KEYS[1])
+end
 redis.call('ZADD', KEYS[2], ARGV[2], KEYS[1])
 redis.call('ZREMRANGEBYSCORE', KEYS[2], '-inf', '(' .. ARGV[3])
 redis.call('ZADD', KEYS[3], ARGV[3], ARGV[1])
@@ -269,7 +275,7 @@ class RedisStorage(Storage):
         return load(PlayerInfo, doc) if doc else None
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
-        ttl_ms = max(1, int((until - now) * 1000))
+        ttl_ms = math.ceil((until - now) * 1000)  # a claim for under a millisecond lasts one
         keys = [f"{P}n:{key}", f"{P}online", f"{P}seen", f"{P}holders", f"{P}lastseen"]
         return bool(await self._claim(keys=keys, args=[player_id, until, now, ttl_ms, key]))
 
