@@ -57,6 +57,12 @@ def test_a_position_set_up_by_dragging_is_played_retaken_and_shared(open_page, s
     wait_shown(page)
     page.click("#edit-position")
     wait_drawn(page, "top")
+    # Whatever draws the page again meanwhile (a presence message, a refusal) leaves the editor
+    # its words and keeps the stroke's controls away.
+    page.evaluate("window.billiards.render()")
+    assert page.locator("#status").inner_text().startswith("Setting up a position")
+    assert page.locator("#hint").inner_text() == ""
+    assert page.locator("#controls").is_hidden() and page.locator("#view-toggle").is_hidden()
     table = page.evaluate("window.billiards.table()")
     w, l = table["w"], table["l"]
     # Every object ball but the 9 off the table, over the bottom rail.

@@ -15,7 +15,7 @@ import { countShown, hooks } from "../play/hooks.js";
 import { MatchActions, resultWords } from "../play/match.js";
 import { freePlace, inRegion, keepInRegion, overlap, usualSpot } from "../play/placing.js";
 import { showClock, showScoreboard } from "../play/scoreboard.js";
-import { PracticeTool, practiceTable } from "../play/setup.js";
+import { EDITING_WORDS, PracticeTool, practiceTable } from "../play/setup.js";
 import { tableFor } from "../play/tables.js";
 import { TableSession } from "../play/session.js";
 import { TableSounds } from "../play/sound.js";
@@ -103,6 +103,7 @@ class PlayPage {
     });
     this.chatButtons();
     if (view.mode === "practice") this.practice = new PracticeTool(this);
+    hooks.render = () => this.render();
     sounds.bindToggle($("sound"));
     if (view.mode === "match" && view.status !== "over") this.match.noteRating(view.game);
   }
@@ -210,10 +211,12 @@ class PlayPage {
     this.showStatus();
     showScoreboard($("players"), v);
     $("choices").replaceChildren(...(turn === "choice" ? v.next.options : []).map((o) => button(optionWords(o), () => this.send({ option: o }))));
-    // Spectators watch: no cue, no stroke controls; nor before the match starts or once over.
-    for (const id of ["controls", "keys"]) $(id).hidden = mine === null || v.status !== "playing" || turn === "choice";
+    // Spectators watch: no cue, no stroke controls; nor before the match starts or once over,
+    // nor while a practice position is set up (its editor holds the table).
+    const editing = Boolean(this.practice?.editing);
+    for (const id of ["controls", "keys"]) $(id).hidden = editing || mine === null || v.status !== "playing" || turn === "choice";
     // The aim view looks along the cue: without one to aim the table is seen from above.
-    $("view-toggle").hidden = turn !== "shot";
+    $("view-toggle").hidden = editing || turn !== "shot";
     this.actions(mine);
   }
 
@@ -222,6 +225,13 @@ class PlayPage {
     const refusal = $("refusal");
     refusal.hidden = !this.notice;
     refusal.textContent = this.notice ?? "";
+    if (this.practice?.editing) {
+      // Nothing is played while a position is set up: no ball-in-hand or contact words.
+      $("hint").textContent = "";
+      $("contact").hidden = true;
+      $("status").textContent = EDITING_WORDS;
+      return;
+    }
     $("hint").textContent = this.handWords();
     this.showContact();
     if (this.shooter !== null) {

@@ -11,7 +11,8 @@
 //   lined up before they were played; sending: whether an intent awaits the server's answer;
 // table(): the geometry the table is drawn from (the server's, at the table's size);
 // practice(): on a practice table, the position being set up (null when none) and the last
-//   shared position's link.
+//   shared position's link; render(): draw the page again from its state, as any message
+//   that arrives does.
 // The page fills them in as it builds what they read; nothing else writes here.
 
 export const hooks = { animations: [], shown: 0, version: undefined };

@@ -52,6 +52,9 @@ export async function practiceTable(game, me) {
 }
 
 /** The practice panel of a play page (`page`: its view3d, state, session and controls). */
+/** The status line while a position is set up (whatever else the table's state says). */
+export const EDITING_WORDS = "Setting up a position: nothing is played until you play from here.";
+
 export class PracticeTool {
   constructor(page) {
     this.page = page;
@@ -141,7 +144,7 @@ export class PracticeTool {
     // The stroke's controls wait until the position is played (the page's next render).
     for (const id of ["controls", "keys", "view-toggle"]) document.getElementById(id).hidden = true;
     document.getElementById("hint").textContent = "";
-    document.getElementById("status").textContent = "Setting up a position: nothing is played until you play from here.";
+    document.getElementById("status").textContent = EDITING_WORDS;
     this.show();
   }
 
