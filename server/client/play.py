@@ -29,8 +29,7 @@ from collections.abc import Awaitable, Callable
 from functools import partial
 from typing import TYPE_CHECKING
 
-from server.protocol.ids import BotName
-from server.protocol.models import OutcomeMessage, Status, TableView
+from server.protocol.models import OutcomeMessage, Status, TableCreate, TableView
 
 #: Each table option in words, as the first line prints those that are not the defaults.
 OPTION_WORDS = {
@@ -40,8 +39,8 @@ OPTION_WORDS = {
     "target": "{} points",
     "size": "{} ft table",
 }
-#: The server's bot a `--vs-bot` table gets unless `--level` says another.
-DEFAULT_LEVEL = BotName.LEVEL_3.value
+#: The server's bot a `--vs-bot` table gets unless `--level` says another (the API's default).
+DEFAULT_LEVEL = TableCreate.model_fields["bot"].default.value
 
 if TYPE_CHECKING:
     import aiohttp
@@ -106,7 +105,8 @@ async def _open_table(client: GameClient, args: argparse.Namespace) -> TableView
         from server.client.api_client import table_id_of
 
         return await client.join(table_id_of(args.join))
-    options = game_options(args)
+    game = game_options(args)
+    options: dict[str, object] = dict(game)
     if args.shot_clock is not None:
         options["shot_clock"] = args.shot_clock
     if args.position:
@@ -120,7 +120,7 @@ async def _open_table(client: GameClient, args: argparse.Namespace) -> TableView
         view = await client.create(args.game, private=args.private, **options)
         print(f"waiting for an opponent: {client.base}/t/{view.id}", flush=True)
         return view
-    status = await client.quick(args.game, **game_options(args))
+    status = await client.quick(args.game, **game)
     table_id = status.table if status.status == "paired" else await client.wait_paired()
     return await client.table(table_id)
 
@@ -296,7 +296,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _option_arguments(parser: argparse.ArgumentParser) -> None:
     """The table's options, as the lobby offers them (server.protocol.ids)."""
-    from server.protocol.ids import RACE_TO_MAX, SNOOKER_REDS, TABLE_SIZES, TARGET_MAX
+    from server.protocol.ids import RACE_TO_MAX, SNOOKER_REDS, TABLE_SIZES, TARGET_MAX, BotName
 
     parser.add_argument(
         "--race-to", type=int, metavar="N", help=f"racks (frames, games) to win, 1-{RACE_TO_MAX}"
@@ -318,7 +318,7 @@ def _option_arguments(parser: argparse.ArgumentParser) -> None:
         "--level",
         choices=[b.value for b in BotName],
         default=DEFAULT_LEVEL,
-        help="with --vs-bot: the server's bot (picker, bot:1 ... bot:5; default bot:3)",
+        help=f"with --vs-bot: the server's bot (picker, bot:1 ... bot:5; default {DEFAULT_LEVEL})",
     )
 
 
