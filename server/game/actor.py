@@ -328,9 +328,10 @@ class TableActor:
         if result.state.over:  # the rack ended: archive it before anyone hears of it
             replay = await self._archive_rack(record, entry, result)
         after, outcome = tables.played(record, entry, result, replay)
+        encoded = tables.outcome_json(outcome, result)  # the bytes stored and published
         stored = entry.model_copy(update={"outcome": outcome})
-        if await context.storage.resolve(after, stored):
-            await context.publisher.publish(record.channel, outcome)
+        if await context.storage.resolve(after, stored, encoded):
+            await context.publisher.publish_json(record.channel, encoded)
             await self._status_changed(record, after)
 
     async def _archive_rack(

@@ -24,6 +24,10 @@ class Publisher:
         relay keeps (`model_dump_json` would make a str of them, to be encoded back, two more
         copies of an outcome's tens of KB)."""
         data = type(message).__pydantic_serializer__.to_json(message)
+        return await self.publish_json(channel, data)
+
+    async def publish_json(self, channel: str, data: bytes) -> Published:
+        """Publish a message already encoded as JSON (an outcome: `tables.outcome_json`)."""
         return await self.relay.backend.publish(channel, data, JSON)
 
     async def delete(self, channel: str) -> None:

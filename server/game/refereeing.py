@@ -100,6 +100,9 @@ class Refereed:
     decision: Decision | None
     trajectory: Trajectory | None
     void: str | None = None
+    #: The trajectory's JSON, encoded where it was simulated (the worker), which the server
+    #: writes into the outcome it publishes and stores (server.protocol.encoding).
+    trajectory_json: bytes | None = None
 
 
 def next_breaker(game: GameName, breaker: int) -> int:
@@ -241,7 +244,8 @@ def referee(state: State, action: PlayerInput) -> Refereed:
     except (RuleError, physics.SceneError, physics.SimulationError) as error:
         return Refereed(state=state, decision=None, trajectory=None, void=str(error))
     trajectory = wire_trajectory(outcome.shot) if outcome.shot else None
-    return Refereed(state=outcome.state, decision=outcome.decision, trajectory=trajectory)
+    encoded = None if trajectory is None else Trajectory.__pydantic_serializer__.to_json(trajectory)
+    return Refereed(outcome.state, outcome.decision, trajectory, trajectory_json=encoded)
 
 
 def timeout_input(state: State) -> PlayerInput:

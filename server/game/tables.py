@@ -14,6 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from server.game import refereeing
 from server.game.refereeing import GameName, PlayerInput, Position, State
+from server.protocol.encoding import with_encoded
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import (
     BOT_LEVELS,
@@ -448,6 +449,14 @@ def practice_aids(record: TableRecord) -> dict[str, object]:
         "ball_set": list(refereeing.ball_set(record.game, options.reds)),
         "presets": refereeing.presets(record.game, options.size),
     }
+
+
+def outcome_json(outcome: OutcomeMessage, result: refereeing.Refereed) -> bytes:
+    """The JSON of the outcome of `result`, published and stored as it is: its trajectory
+    written from the worker's encoding (server.protocol.encoding), the rest encoded here."""
+    if result.trajectory_json is None:
+        return OutcomeMessage.__pydantic_serializer__.to_json(outcome)
+    return with_encoded(outcome, {"trajectory": result.trajectory_json})
 
 
 def played(

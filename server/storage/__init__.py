@@ -166,9 +166,13 @@ class Storage(ABC):
         that version and no pending input and the shot id is new (invariants 2-4)."""
 
     @abstractmethod
-    async def resolve(self, record: TableRecord, entry: InputEntry) -> bool:
+    async def resolve(
+        self, record: TableRecord, entry: InputEntry, outcome_json: bytes | None = None
+    ) -> bool:
         """Store `record` (next version, nothing pending) and `entry` (with its outcome) if the
-        stored table is at version `record.version - 1` with `entry` pending."""
+        stored table is at version `record.version - 1` with `entry` pending. `outcome_json`:
+        the outcome's JSON when the caller has it (what it publishes), stored as it is rather
+        than encoded again."""
 
     @abstractmethod
     async def update(self, record: TableRecord) -> bool:

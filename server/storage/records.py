@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Set
 from typing import Any, TypeVar
 
 from pydantic import BaseModel
@@ -28,6 +28,7 @@ from server.game.challenge_record import ChallengeRecord
 from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
+from server.protocol.encoding import with_encoded
 from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, ReplayView
 
 STORAGE_VERSION = 4
@@ -66,9 +67,15 @@ M = TypeVar("M", bound=BaseModel)
 _PREFIX = f'{{"_v":{STORAGE_VERSION},'
 
 
-def dump(record: BaseModel, **options: Any) -> str:
-    """The document of `record` at the current version (`options`: model_dump_json's)."""
-    body = record.model_dump_json(**options)
+def dump(
+    record: BaseModel,
+    encoded: Mapping[str, bytes] | None = None,
+    exclude: Set[str] = frozenset(),
+) -> str:
+    """The document of `record` at the current version, leaving out the fields in `exclude`,
+    the fields named in `encoded` written from the JSON given for them (their values' own JSON,
+    made once elsewhere: server.protocol.encoding)."""
+    body = with_encoded(record, encoded or {}, exclude).decode()
     return _PREFIX + body[1:] if body != "{}" else _PREFIX[:-1] + "}"
 
 

@@ -338,25 +338,35 @@ class RedisStorage(Storage):
             return Accepted(AcceptResult.DUPLICATE, load(InputEntry, answer[1]))
         return Accepted(AcceptResult.ACCEPTED if answer[0] == 0 else AcceptResult.CONFLICT)
 
-    async def _swap(self, record: TableRecord, pending: str, entry: InputEntry | None) -> bool:
+    async def _swap(
+        self,
+        record: TableRecord,
+        pending: str,
+        entry: InputEntry | None,
+        outcome_json: bytes | None = None,
+    ) -> bool:
+        """`outcome_json`: the JSON of `entry`'s outcome, which is also `record`'s last one."""
+        last = outcome_json and {"last_outcome": outcome_json}
         args = [
             record.version - 1,
             pending,
             record.version,
-            dump(record),
+            dump(record, last if entry and entry.outcome is record.last_outcome else None),
             record.id,
             int(record.listed),
             record.created,
             entry.shot_id if entry else "",
-            dump(entry) if entry else "",
+            dump(entry, outcome_json and {"outcome": outcome_json}) if entry else "",
             "" if record.deadline is None else repr(record.deadline),
             entry.rack if entry else "",
             repr(record.expires),
         ]
         return bool(await self._swap_script(keys=self._keys(record.id), args=args))
 
-    async def resolve(self, record: TableRecord, entry: InputEntry) -> bool:
-        return await self._swap(record, entry.shot_id, entry)
+    async def resolve(
+        self, record: TableRecord, entry: InputEntry, outcome_json: bytes | None = None
+    ) -> bool:
+        return await self._swap(record, entry.shot_id, entry, outcome_json)
 
     async def update(self, record: TableRecord) -> bool:
         return await self._swap(record, "", None)

@@ -335,8 +335,10 @@ class SqliteStorage(Storage):
         seen = await self.find_input(record.id, entry.shot_id)
         return Accepted(AcceptResult.CONFLICT if seen is None else AcceptResult.DUPLICATE, seen)
 
-    async def resolve(self, record: TableRecord, entry: InputEntry) -> bool:
-        doc = dump(entry)
+    async def resolve(
+        self, record: TableRecord, entry: InputEntry, outcome_json: bytes | None = None
+    ) -> bool:
+        doc = dump(entry, outcome_json and {"outcome": outcome_json})
         played = doc if entry.outcome is not None and entry.outcome is record.last_outcome else None
         async with self._transaction() as db:
             was = (record.version - 1, entry.shot_id)

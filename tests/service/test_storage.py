@@ -13,7 +13,16 @@ from server.game import refereeing
 from server.game.actor import rate
 from server.game.history import MatchResult
 from server.game.ratings import Rating
-from server.game.tables import KEEP_FINISHED, KEEP_IDLE, InputEntry, TableRecord, bump, join, played
+from server.game.tables import (
+    KEEP_FINISHED,
+    KEEP_IDLE,
+    InputEntry,
+    TableRecord,
+    bump,
+    join,
+    outcome_json,
+    played,
+)
 from server.protocol.models import BreakEntry, Ending, PlayerInfo, Source, Status
 from server.storage import AcceptResult, RateResult, Storage
 from server.storage.sqlite import SCHEMA, SqliteStorage
@@ -293,11 +302,14 @@ async def test_rack_inputs_are_one_racks_inputs_in_order(storage: Storage) -> No
     assert len(await storage.inputs(record.id)) == 6
 
 
+@pytest.mark.parametrize("encoded", [False, True], ids=["model", "outcome_json"])
 async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(
-    open_storage: OpenStorage,
+    open_storage: OpenStorage, encoded: bool
 ) -> None:
     """A rack's record needs its inputs and states; `find_input`, `inputs` and the table's
-    last outcome keep the whole outcome, after a restart too."""
+    last outcome keep the whole outcome, after a restart too, whether storage encodes the
+    outcome itself or is given the JSON the service publishes (its trajectory encoded by the
+    worker, `tables.outcome_json`)."""
     storage = await open_storage()
     record = join(a_table(), BOB)
     await storage.create_table(record)
@@ -307,9 +319,11 @@ async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(
     )
     accepted = record.model_copy(update={"pending": entry})
     assert (await storage.accept(accepted)).result is AcceptResult.ACCEPTED
-    after, outcome = played(accepted, entry, refereeing.referee(record.state, action))
-    assert outcome.trajectory is not None
-    assert await storage.resolve(after, entry.model_copy(update={"outcome": outcome}))
+    result = refereeing.referee(record.state, action)
+    after, outcome = played(accepted, entry, result)
+    assert outcome.trajectory is not None and result.trajectory_json is not None
+    stored = entry.model_copy(update={"outcome": outcome})
+    assert await storage.resolve(after, stored, outcome_json(outcome, result) if encoded else None)
     (logged,) = await storage.rack_inputs(record.id, 1)
     assert logged.outcome is not None and logged.outcome.trajectory is None
     assert logged.outcome.state == outcome.state and logged.input == action
