@@ -75,7 +75,12 @@ def dump(
     """The document of `record` at the current version, leaving out the fields in `exclude`,
     the fields named in `encoded` written from the JSON given for them (their values' own JSON,
     made once elsewhere: server.protocol.encoding)."""
-    body = with_encoded(record, encoded or {}, exclude).decode()
+    return document(with_encoded(record, encoded or {}, exclude).decode())
+
+
+def document(body: str) -> str:
+    """The stored document of a record whose JSON is `body`: it, marked with the current
+    version."""
     return _PREFIX + body[1:] if body != "{}" else _PREFIX[:-1] + "}"
 
 

@@ -11,7 +11,8 @@ the event loop): about 140 us of CPU here, eight times the statement itself. So 
 keeps them few: a read is one `execute_fetchall`; a compare-and-set is one `UPDATE ... WHERE
 version = ? AND pending = ?` whose row count says whether it held; accepting an input is that
 one statement alone (the pending input lives in the table's document until it is played, and
-the `inputs` table holds the played ones with their outcomes). And since one process owns the
+the `inputs` table holds the played ones with their outcomes); so is playing it, the input
+logged by a trigger of the table's own UPDATE (`LOG_PLAYED`). And since one process owns the
 file, the last committed record of the `CACHED_TABLES` most recently used tables is kept in
 memory (write-through, after each commit): a table actor reads its table before every job,
 and parsing the stored document, the last outcome's trajectory included, was the largest cost
@@ -45,7 +46,7 @@ from server.storage import (
     paired,
     waiting,
 )
-from server.storage.records import dump, load
+from server.storage.records import document, dump, load
 
 #: Tables whose last stored record is kept in memory (least recently used dropped first).
 CACHED_TABLES = 1024
@@ -59,7 +60,8 @@ CREATE TABLE IF NOT EXISTS tables (
     id TEXT PRIMARY KEY, version INTEGER NOT NULL, pending TEXT NOT NULL,
     listed INTEGER NOT NULL, created REAL NOT NULL, deadline REAL, doc TEXT NOT NULL,
     expires REAL,
-    outcome TEXT);
+    outcome TEXT,
+    played_doc TEXT);
 CREATE INDEX IF NOT EXISTS tables_listed ON tables (listed, created);
 CREATE INDEX IF NOT EXISTS tables_deadline ON tables (deadline);
 CREATE TABLE IF NOT EXISTS inputs (
@@ -91,6 +93,21 @@ CREATE TABLE IF NOT EXISTS lobby (player TEXT PRIMARY KEY, until REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS quick (
     player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL,
     alive REAL NOT NULL DEFAULT 0);
+"""
+
+
+#: Logs a played input in the statement that stores its table (`resolve`): an UPDATE that sets
+#: `played_doc` to the input's document also writes it into `inputs`, under the shot id the
+#: table had pending, and empties the column again. One statement is atomic on its own, so
+#: the table's compare-and-set and the log's write need no transaction around them: one round
+#: trip to aiosqlite's thread where BEGIN, UPDATE, INSERT and COMMIT took four.
+LOG_PLAYED = """
+CREATE TRIGGER IF NOT EXISTS tables_log_played AFTER UPDATE OF played_doc ON tables
+WHEN NEW.played_doc IS NOT NULL
+BEGIN
+    INSERT OR REPLACE INTO inputs VALUES (NEW.id, OLD.pending, NEW.version, NEW.played_doc);
+    UPDATE tables SET played_doc = NULL WHERE id = NEW.id;
+END
 """
 
 
@@ -129,6 +146,9 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
             outcome = record.last_outcome and dump(record.last_outcome)
             moved = (dump(record, exclude=_DOC), outcome, table_id)
             await db.execute("UPDATE tables SET doc = ?, outcome = ? WHERE id = ?", moved)
+    if "played_doc" not in columns:
+        await db.execute("ALTER TABLE tables ADD COLUMN played_doc TEXT")
+    await db.execute(LOG_PLAYED)
     async with db.execute("PRAGMA table_info(players)") as cursor:
         if "seen" not in {row[1] for row in await cursor.fetchall()}:
             # Players from before invariant 15 are seen now: they expire as if new.
@@ -287,13 +307,16 @@ class SqliteStorage(Storage):
         was: tuple[int, str],
         pending: str,
         new_shot: str | None = None,
-        played: str | None = None,
+        last_outcome: str | None = None,
+        logged: str | None = None,
     ) -> bool:
         """Store `record` (with `pending`) if the stored table is at version and pending
         `was` (and, given `new_shot`, the table has played no input of that shot id): one
         statement, so the check and the write are one step. The last outcome is written only
-        when it is not the one the stored record has, taken from `played` (the document of
-        the input it is the outcome of) when given: SQLite copies it, nothing is encoded twice.
+        when it is not the one the stored record has: `last_outcome`, its document, when the
+        caller has it (the JSON the service publishes), else encoded here. `logged`: the
+        document of the input that was pending, logged in `inputs` by the same statement
+        (`LOG_PLAYED`).
         """
         sets = "version = ?, pending = ?, listed = ?, deadline = ?, doc = ?, expires = ?"
         args: list[object] = [
@@ -305,12 +328,15 @@ class SqliteStorage(Storage):
             record.expires,
         ]
         stored = self._tables.get(record.id)
-        if played is not None:
-            sets += ", outcome = json_extract(?, '$.outcome')"
-            args.append(played)
+        if last_outcome is not None:
+            sets += ", outcome = ?"
+            args.append(last_outcome)
         elif stored is None or stored.last_outcome is not record.last_outcome:
             sets += ", outcome = ?"
             args.append(record.last_outcome and dump(record.last_outcome))
+        if logged is not None:
+            sets += ", played_doc = ?"
+            args.append(logged)
         sql = f"UPDATE tables SET {sets} WHERE id = ? AND version = ? AND pending = ?"
         args += [record.id, *was]
         if new_shot is not None:
@@ -338,16 +364,17 @@ class SqliteStorage(Storage):
     async def resolve(
         self, record: TableRecord, entry: InputEntry, outcome_json: bytes | None = None
     ) -> bool:
+        """One statement: the table's compare-and-set, which logs the played input in
+        `inputs` through `LOG_PLAYED` (a database from before kept the pending input there
+        too: it is replaced)."""
         doc = dump(entry, outcome_json and {"outcome": outcome_json})
-        played = doc if entry.outcome is not None and entry.outcome is record.last_outcome else None
-        async with self._transaction() as db:
+        last = None
+        if entry.outcome is not None and entry.outcome is record.last_outcome:
+            last = document(outcome_json.decode()) if outcome_json else dump(entry.outcome)
+        async with self._lock:
             was = (record.version - 1, entry.shot_id)
-            if not await self._write(db, record, was, "", played=played):
+            if not await self._write(self._db, record, was, "", last_outcome=last, logged=doc):
                 return False
-            await db.execute(  # (a database from before kept the pending input here too)
-                "INSERT OR REPLACE INTO inputs VALUES (?, ?, ?, ?)",
-                (record.id, entry.shot_id, record.version, doc),
-            )
         self._remember(record)
         return True
 

@@ -380,6 +380,7 @@ async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Pa
     they were created (or as their next change says)."""
     path = tmp_path / "old.sqlite3"
     old_schema = SCHEMA.replace(",\n    expires REAL", "").replace(",\n    outcome TEXT", "")
+    old_schema = old_schema.replace(",\n    played_doc TEXT", "")
     assert old_schema != SCHEMA
     record = a_table()
     with sqlite3.connect(path) as db:
@@ -401,7 +402,7 @@ async def test_a_database_from_before_the_outcome_column_keeps_its_last_outcomes
 ) -> None:
     """Tables stored with the last outcome inside their document read back the same."""
     path = tmp_path / "old.sqlite3"
-    old_schema = SCHEMA.replace(",\n    outcome TEXT", "")
+    old_schema = SCHEMA.replace(",\n    outcome TEXT", "").replace(",\n    played_doc TEXT", "")
     assert old_schema != SCHEMA
     record = join(a_table(), BOB)
     action = refereeing.bot_input(record.state, "picker")
@@ -426,6 +427,33 @@ async def test_a_database_from_before_the_outcome_column_keeps_its_last_outcomes
     storage = await SqliteStorage.open(path)
     try:
         assert (await storage.get_table(after.id)).last_outcome == after.last_outcome
+    finally:
+        await storage.close()
+
+
+async def test_a_database_from_before_the_played_column_logs_what_its_tables_play(
+    tmp_path: Path,
+) -> None:
+    """A file from before `played_doc` (inputs logged by their own INSERT) gets the column and
+    its trigger: an input played there is in the log, once, and a refused resolve logs nothing."""
+    path = tmp_path / "old.sqlite3"
+    old_schema = SCHEMA.replace(",\n    played_doc TEXT", "")
+    assert old_schema != SCHEMA
+    with sqlite3.connect(path) as db:
+        db.executescript(old_schema)
+    db.close()
+    storage = await SqliteStorage.open(path)
+    try:
+        record = join(a_table(), BOB)
+        await storage.create_table(record)
+        accepted = pending(record, "shot-0001")
+        assert (await storage.accept(accepted)).result is AcceptResult.ACCEPTED
+        after = bump(accepted, pending=None)
+        assert not await storage.resolve(after, pending(record, "shot-0002").pending)
+        assert await storage.inputs(record.id) == []
+        assert await storage.resolve(after, accepted.pending)
+        assert await storage.inputs(record.id) == [accepted.pending]
+        assert await storage.find_input(record.id, "shot-0001") == accepted.pending
     finally:
         await storage.close()
 
