@@ -25,9 +25,11 @@ state gives the same candidates in the same order.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from enum import StrEnum
 from itertools import pairwise
+from types import MappingProxyType
 
 from rules.aim import path_clear
 from rules.bot.geometry import Pot, banks, combos, cushion_bounces, pots, two_cushion_paths
@@ -47,17 +49,35 @@ from rules.state import State
 CONTACT_OFFSETS = (0.0, 0.5, -0.5, 0.85, -0.85)
 
 
+#: Break: cue-ball places on the head string (fractions of the width) and speeds (m/s), a
+#: centre-ball hit on the apex ball. Measured on the engine under the tournament noise (60
+#: racks each): in nine-ball, from a third of the way across, 5-7 m/s keeps the table 95% of
+#: the time and scratches 2-5%; from the centre, or harder, or with draw, the cue ball
+#: scratches in a quarter to a third of the breaks. Eight-ball's fifteen balls need 10 m/s.
+BREAK_PLACES = (0.3, 0.35, 0.25)
+BREAK_SPEEDS = MappingProxyType({Game.NINEBALL: (5.0, 6.0, 7.0), Game.EIGHTBALL: (8.5, 10.0, 11.5)})
+#: The strongest level's breaks (the lower levels and the search baseline keep the set above).
+#: Nine-ball's rack still pots a ball on 98-99% of breaks at 4 m/s, and a softer break
+#: scratches less: centre ball, 1-2% at 4 m/s, 4-6% at 5, 5-10% at 6 (60 racks, 6 noise draws
+#: each, from each place above). With 5-7 m/s the search chose 6 or 7 on half of the racks for
+#: the spread they leave and scratched on 6.5% of its breaks, handing ball in hand on a full
+#: rack to the other side; with these, 0.7% (40 racks, 20 draws each).
+SOFT_BREAK_SPEEDS = MappingProxyType({**BREAK_SPEEDS, Game.NINEBALL: (4.0, 4.5, 5.0)})
+
+
 @dataclass(frozen=True, slots=True)
 class Strokes:
     """How each straight pot and each contact is varied.
 
     pot_speeds: factors of the pot's own speed. pot_spins: tip offsets (a: side, b: draw or
-    follow). contacts: (speed in m/s, b) of each contact.
+    follow). contacts: (speed in m/s, b) of each contact. breaks: the break's speeds (m/s)
+    per game.
     """
 
     pot_speeds: tuple[float, ...]
     pot_spins: tuple[tuple[float, float], ...]
     contacts: tuple[tuple[float, float], ...]
+    breaks: Mapping[Game, tuple[float, ...]] = field(default_factory=lambda: BREAK_SPEEDS)
 
 
 #: The coarse set, which the smaller screens of the lower levels hold: three speeds with draw,
@@ -74,6 +94,7 @@ FINE = Strokes(
     (0.6, 0.8, 1.0, 1.25, 1.6),
     ((0.0, -0.3), (0.0, 0.0), (0.0, 0.3), (-0.3, 0.0), (0.3, 0.0)),
     ((0.6, 0.0), (1.0, 0.0), (2.0, 0.0), (2.0, -0.4), (3.5, 0.0)),
+    SOFT_BREAK_SPEEDS,
 )
 KICK_SPEEDS = (1.5, 2.5, 4.0)
 #: Two-cushion kicks: turns (degrees) of the mirror heading tried, since a cushion is no
@@ -85,13 +106,6 @@ PLAIN_SPEED = 2.0
 #: Legal balls tried for contacts, nearest first, and from how many cue-ball spots.
 CONTACT_TARGETS = 3
 CONTACT_SPOTS = 3
-#: Break: cue-ball places on the head string (fractions of the width) and speeds (m/s), a
-#: centre-ball hit on the apex ball. Measured on the engine under the tournament noise (60
-#: racks each): in nine-ball, from a third of the way across, 5-7 m/s keeps the table 95% of
-#: the time and scratches 2-5%; from the centre, or harder, or with draw, the cue ball
-#: scratches in a quarter to a third of the breaks. Eight-ball's fifteen balls need 10 m/s.
-BREAK_PLACES = (0.3, 0.35, 0.25)
-BREAK_SPEEDS = {Game.NINEBALL: (5.0, 6.0, 7.0), Game.EIGHTBALL: (8.5, 10.0, 11.5)}
 #: Three-cushion: the widest heading offset (degrees), the side spins, the speeds, follow.
 FAN_WIDTH = 60.0
 FAN_SIDES = (-0.4, 0.0, 0.4)
@@ -282,8 +296,9 @@ def push_out_candidates(spot: Spot, targets: frozenset[str]) -> list[Candidate]:
     return out
 
 
-def break_candidates(state: State) -> list[Candidate]:
-    """Pool's break: from a few places on the head string, hard at the apex ball."""
+def break_candidates(state: State, speeds: Mapping[Game, tuple[float, ...]]) -> list[Candidate]:
+    """Pool's break: from a few places on the head string, hard at the apex ball, at the
+    game's `speeds`."""
     now = allowed(state)
     table = table_of(state)
     others = {b: p for b, p in state.balls.items() if b != now.cue}
@@ -292,7 +307,7 @@ def break_candidates(state: State) -> list[Candidate]:
     for f in BREAK_PLACES:
         place = (round(table.width * f, 4), round(table.head_string, 4))
         spot = Spot(now, table, {**others, now.cue: place}, place)
-        for v in BREAK_SPEEDS[state.game]:
+        for v in speeds[state.game]:
             strike = {"speed": v, "heading": heading_to(place, others[apex])}
             out.append(Candidate(spot.shot(apex, **strike), Kind.BREAK))
     return out
@@ -324,14 +339,14 @@ def candidates(state: State, level: Level, strokes: Strokes | None = None) -> li
     push-outs. strokes: how pots and contacts are varied (default: the level's set)."""
     now = allowed(state)
     ref = referee(state.game)
+    strokes = strokes or (FINE if level.fine else COARSE)
     if not ref.TABLE.pockets:
         found = carom_candidates(state, level.screen)
     elif state.shots == 0 and state.ball_in_hand == "kitchen":
-        found = break_candidates(state)
+        found = break_candidates(state, strokes.breaks)
     else:
         where = spots(state)
         targets = now.targets | (now.options.nominate if state.free_ball else frozenset())
-        strokes = strokes or (FINE if level.fine else COARSE)
         found = pot_candidates(where, targets, level.pots, strokes)
         for spot in where[:CONTACT_SPOTS]:
             found += contact_candidates(spot, targets, strokes)

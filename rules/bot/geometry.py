@@ -174,6 +174,34 @@ def pots(
     return _likeliest(found)
 
 
+def best_chance(
+    table: Table,
+    places: list[Point],
+    balls: Mapping[str, Point],
+    targets: frozenset[str],
+    noise: Noise,
+) -> float:
+    """The chance of the likeliest straight pot of one of `targets` with the cue ball at any of
+    `places` (`pots` from each place, 0 when none is open): each object ball's way to each
+    pocket is checked once for all the places."""
+    R = table.R
+    best = 0.0
+    with_cue = [{**balls, "cue": place} for place in places]
+    for t in sorted(targets):
+        tp = balls[t]
+        for pocket in table.pockets:
+            mouth = pocket.center
+            tol = tolerance(table, pocket, _direction(tp, mouth))
+            if tol <= 0.0 or not path_clear(tp, mouth, balls, R, ignore={"cue", t}):
+                continue
+            d2 = math.dist(tp, mouth)
+            for placed in with_cue:
+                leg = _leg(table, placed, "cue", t, mouth)
+                if leg is not None:
+                    best = max(best, chance(tol, d2 * _turn(leg, R), noise))
+    return best
+
+
 def _likeliest(found: list[Pot]) -> list[Pot]:
     return sorted(found, key=lambda a: (-a.chance, a.target, a.pocket, a.via, a.ghost))
 

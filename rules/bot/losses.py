@@ -6,7 +6,9 @@ reads a lost game back from its end:
 
 - the loser's own shot ended the game: `THREE_FOULS` when the referee says so, else `FOUL`
   (the 8 down early, in the wrong pocket or with a foul);
-- the loser never came to the table, or the last input was their break: `BREAK`;
+- the loser never came to the table (the winner broke and ran out): `BREAK_AND_RUN`, which
+  no choice of the loser's answers; the last input was the loser's own break (it pocketed
+  nothing or fouled, and the winner ran out from there): `BREAK`, which a better break does;
 - otherwise the input that ended the loser's last visit: `PUSH_OUT` (a push-out), `CHOICE`
   (taking the table, or handing it back, after the winner's push-out or foul), `FOUL` (it
   fouled: ball in hand for the winner), `MISSED_POT` (a pot, bank or combination that did not
@@ -35,6 +37,7 @@ POTS = frozenset({Kind.POT, Kind.BANK, Kind.COMBO})
 
 
 class Loss(StrEnum):
+    BREAK_AND_RUN = "break and run"
     BREAK = "break"
     MISSED_POT = "missed pot"
     FOUL = "foul"
@@ -82,7 +85,9 @@ def classify(turns: Sequence[Turn], loser: int) -> Loss:
     if turns and turns[-1].seat == loser:
         return _ended_own_game(turns[-1])
     mine = [i for i, t in enumerate(turns) if t.seat == loser]
-    if not mine or mine[-1] == 0:
+    if not mine:
+        return Loss.BREAK_AND_RUN
+    if mine[-1] == 0:
         return Loss.BREAK
     last = mine[-1]
     turn = turns[last]

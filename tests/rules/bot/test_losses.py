@@ -36,7 +36,7 @@ def run_out(seat: int) -> list[Turn]:
 
 
 def test_the_opponent_ran_out_from_the_break():
-    assert classify([turn(B, Kind.BREAK, potted=("3",)), *run_out(B)], A) == Loss.BREAK
+    assert classify([turn(B, Kind.BREAK, potted=("3",)), *run_out(B)], A) == Loss.BREAK_AND_RUN
 
 
 def test_a_break_that_handed_over_the_table():
