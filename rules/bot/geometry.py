@@ -31,6 +31,9 @@ from rules.spots import Point, Table
 JAW_SHARE = 0.3
 CORNER_LIMIT, SIDE_LIMIT = 90.0, 60.0
 SHAPE = 3
+#: Each pocket's frame (`_pocket_frame`) by table preset, ball radius and pocket: fixed per
+#: table, and asked for by every line the look-ahead tries, so kept once worked out.
+_FRAMES: dict[tuple[str, float, Pocket], tuple[Point, float, float]] = {}
 #: Thinnest cut planned (cos of the cut angle): thinner cuts leave too little to aim at.
 MIN_CUT_COS = 0.2
 #: A bank's error grows this much more than its path length alone says.
@@ -91,14 +94,24 @@ def pocket_axis(table: Table, pocket: Pocket) -> Point:
 def tolerance(table: Table, pocket: Pocket, direction: Point) -> float:
     """How far (m) the object ball's centre may stray sideways from the pocket's centre and
     still drop, for a ball travelling along the unit `direction`; 0 when it cannot drop."""
-    axis = pocket_axis(table, pocket)
-    cos_in = direction[0] * axis[0] + direction[1] * axis[1]
+    key = (table.preset, table.R, pocket)
+    frame = _FRAMES.get(key)
+    if frame is None:
+        frame = _FRAMES[key] = _pocket_frame(table, pocket)
+    (ax, ay), limit, widest = frame
+    cos_in = direction[0] * ax + direction[1] * ay
     angle = math.degrees(math.acos(max(-1.0, min(1.0, cos_in))))
-    limit = SIDE_LIMIT if side_pocket(pocket) else CORNER_LIMIT
     if angle >= limit:
         return 0.0
-    mouth = table.spec.side_mouth if side_pocket(pocket) else table.spec.corner_mouth
-    return (mouth / 2 - JAW_SHARE * table.R) * (1 - (angle / limit) ** SHAPE)
+    return widest * (1 - (angle / limit) ** SHAPE)
+
+
+def _pocket_frame(table: Table, pocket: Pocket) -> tuple[Point, float, float]:
+    """A pocket's axis, angle limit and straight-in tolerance."""
+    side = side_pocket(pocket)
+    mouth = table.spec.side_mouth if side else table.spec.corner_mouth
+    widest = mouth / 2 - JAW_SHARE * table.R
+    return pocket_axis(table, pocket), SIDE_LIMIT if side else CORNER_LIMIT, widest
 
 
 def chance(tol: float, spread: float, noise: Noise) -> float:
