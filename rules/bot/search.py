@@ -128,10 +128,14 @@ def _departure(result: physics.Shot, ball: str) -> float | None:
 
 
 def throw_corrected(state: State, c: Candidate, simulate: Simulate) -> Candidate:
-    """A pot with its heading corrected for the throw seen in one exact simulation."""
+    """A pot with its heading corrected for the throw seen in one exact simulation; as it is
+    when the engine fails on that simulation (the search then values its plays)."""
     pot = c.pot
     balls = shot_position(state, c.shot)
-    moved = _departure(simulate(scene(state, c.shot, balls)), pot.target)
+    try:
+        moved = _departure(simulate(scene(state, c.shot, balls)), pot.target)
+    except physics.SimulationError:
+        return c
     if moved is None:
         return c
     at = state.balls[pot.target]

@@ -89,3 +89,14 @@ def test_the_throw_correction_straightens_the_object_ball():
     fixed = throw_corrected(state, plain, physics.simulate)
     assert fixed.shot.strike.heading != plain.shot.strike.heading
     assert _direction_error(state, fixed) < 0.5 * _direction_error(state, plain)
+
+
+def test_a_pot_the_engine_fails_on_is_kept_uncorrected():
+    state = nineball({"cue": (0.2, 1.6), "1": (0.8, 1.8), "9": (0.3, 2.2)})
+    cut = pots(T, state.balls["cue"], state.balls, frozenset({"1"}), NOISE)[0]
+    plain = Candidate(exact(state, cut), Kind.POT, cut)
+
+    def failing(scene):
+        raise physics.BudgetExceeded("the engine gave up")
+
+    assert throw_corrected(state, plain, failing) == plain
