@@ -14,7 +14,7 @@ the referee, on simulated shots, decides everything else.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, replace
 from enum import StrEnum
 
@@ -171,20 +171,29 @@ def pots(
     by target and pocket name, so the order is fixed)."""
     R = table.R
     found = []
+    placed = {**balls, "cue": cue}
+    for t, pocket, tol, d2 in _open_lines(table, balls, targets):
+        leg = _leg(table, placed, "cue", t, pocket.center)
+        if leg is None:
+            continue
+        p = chance(tol, d2 * _turn(leg, R), noise)
+        found.append(Pot(t, pocket.name, cue, leg.ghost, leg.d1, leg.cos_cut, d2, p))
+    return _likeliest(found)
+
+
+def _open_lines(
+    table: Table, balls: Mapping[str, Point], targets: frozenset[str]
+) -> Iterator[tuple[str, Pocket, float, float]]:
+    """Each (target, pocket, tolerance, distance to the pocket) whose object-ball path is open
+    and can drop, targets in name order and pockets in the table's: the half of a straight pot
+    that does not depend on where the cue ball is."""
     for t in sorted(targets):
         tp = balls[t]
         for pocket in table.pockets:
             mouth = pocket.center
             tol = tolerance(table, pocket, _direction(tp, mouth))
-            if tol <= 0.0 or not path_clear(tp, mouth, balls, R, ignore={"cue", t}):
-                continue
-            leg = _leg(table, {**balls, "cue": cue}, "cue", t, mouth)
-            if leg is None:
-                continue
-            d2 = math.dist(tp, mouth)
-            p = chance(tol, d2 * _turn(leg, R), noise)
-            found.append(Pot(t, pocket.name, cue, leg.ghost, leg.d1, leg.cos_cut, d2, p))
-    return _likeliest(found)
+            if tol > 0.0 and path_clear(tp, mouth, balls, table.R, ignore={"cue", t}):
+                yield t, pocket, tol, math.dist(tp, mouth)
 
 
 def best_chance(
@@ -200,18 +209,11 @@ def best_chance(
     R = table.R
     best = 0.0
     with_cue = [{**balls, "cue": place} for place in places]
-    for t in sorted(targets):
-        tp = balls[t]
-        for pocket in table.pockets:
-            mouth = pocket.center
-            tol = tolerance(table, pocket, _direction(tp, mouth))
-            if tol <= 0.0 or not path_clear(tp, mouth, balls, R, ignore={"cue", t}):
-                continue
-            d2 = math.dist(tp, mouth)
-            for placed in with_cue:
-                leg = _leg(table, placed, "cue", t, mouth)
-                if leg is not None:
-                    best = max(best, chance(tol, d2 * _turn(leg, R), noise))
+    for t, pocket, tol, d2 in _open_lines(table, balls, targets):
+        for placed in with_cue:
+            leg = _leg(table, placed, "cue", t, pocket.center)
+            if leg is not None:
+                best = max(best, chance(tol, d2 * _turn(leg, R), noise))
     return best
 
 
