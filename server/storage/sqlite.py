@@ -46,12 +46,12 @@ from server.storage import (
     paired,
     waiting,
 )
-from server.storage.records import document, dump, load
+from server.storage.records import dump, load
 
 #: Tables whose last stored record is kept in memory (least recently used dropped first).
 CACHED_TABLES = 1024
-#: A table's document leaves out its last outcome, which has a column of its own: the outcome
-#: (its trajectory is most of a record's bytes) changes once per shot, the document twice.
+#: A table's document leaves out its last outcome, which is kept apart (see `_write`): the
+#: outcome (its trajectory is most of a record's bytes) changes once per shot, the document twice.
 _DOC = {"last_outcome"}
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS players (id TEXT PRIMARY KEY, doc TEXT NOT NULL, seen REAL);
@@ -61,13 +61,14 @@ CREATE TABLE IF NOT EXISTS tables (
     listed INTEGER NOT NULL, created REAL NOT NULL, deadline REAL, doc TEXT NOT NULL,
     expires REAL,
     outcome TEXT,
-    played_doc TEXT);
+    played_doc TEXT,
+    last_shot TEXT);
 CREATE INDEX IF NOT EXISTS tables_listed ON tables (listed, created);
 CREATE INDEX IF NOT EXISTS tables_deadline ON tables (deadline);
 CREATE TABLE IF NOT EXISTS inputs (
     table_id TEXT NOT NULL, shot_id TEXT NOT NULL, seq INTEGER, doc TEXT NOT NULL,
+    rack INTEGER,
     PRIMARY KEY (table_id, shot_id));
-CREATE INDEX IF NOT EXISTS inputs_rack ON inputs (table_id, json_extract(doc, '$.rack'), seq);
 CREATE TABLE IF NOT EXISTS heartbeats (
     table_id TEXT NOT NULL, seat INTEGER NOT NULL, seen REAL NOT NULL,
     PRIMARY KEY (table_id, seat));
@@ -98,14 +99,18 @@ CREATE TABLE IF NOT EXISTS quick (
 
 #: Logs a played input in the statement that stores its table (`resolve`): an UPDATE that sets
 #: `played_doc` to the input's document also writes it into `inputs`, under the shot id the
-#: table had pending, and empties the column again. One statement is atomic on its own, so
-#: the table's compare-and-set and the log's write need no transaction around them: one round
-#: trip to aiosqlite's thread where BEGIN, UPDATE, INSERT and COMMIT took four.
+#: table had pending and the rack its pending input was accepted in (read from the table's
+#: small document, not from the input's, which holds the outcome's trajectory), and empties
+#: the column again. One statement is atomic on its own, so the table's compare-and-set and
+#: the log's write need no transaction around them: one round trip to aiosqlite's thread where
+#: BEGIN, UPDATE, INSERT and COMMIT took four.
 LOG_PLAYED = """
-CREATE TRIGGER IF NOT EXISTS tables_log_played AFTER UPDATE OF played_doc ON tables
+CREATE TRIGGER tables_log_played AFTER UPDATE OF played_doc ON tables
 WHEN NEW.played_doc IS NOT NULL
 BEGIN
-    INSERT OR REPLACE INTO inputs VALUES (NEW.id, OLD.pending, NEW.version, NEW.played_doc);
+    INSERT OR REPLACE INTO inputs (table_id, shot_id, seq, doc, rack) VALUES (
+        NEW.id, OLD.pending, NEW.version, NEW.played_doc,
+        COALESCE(json_extract(OLD.doc, '$.pending.rack'), json_extract(NEW.played_doc, '$.rack')));
     UPDATE tables SET played_doc = NULL WHERE id = NEW.id;
 END
 """
@@ -128,13 +133,22 @@ def take_legacy_token_key(path: str | Path) -> str | None:
     return None if row is None else row[0]
 
 
+async def _columns(db: aiosqlite.Connection, table: str) -> set[str]:
+    async with db.execute(f"PRAGMA table_info({table})") as cursor:
+        return {row[1] for row in await cursor.fetchall()}
+
+
 async def _add_columns(db: aiosqlite.Connection) -> None:
-    """Give a database made before table expiry its `expires` column (invariant 12): its
-        tables expire `KEEP_IDLE` after creation, or as their next change says. And one made
-        before the `outcome` column its last outcomes moved out of the documents into it; and the
-    quick-match queue its `alive` column."""
-    async with db.execute("PRAGMA table_info(tables)") as cursor:
-        columns = {row[1] for row in await cursor.fetchall()}
+    """Bring a database from an older server up to `SCHEMA`.
+
+    Tables made before expiry get their `expires` column (invariant 12): they expire
+    `KEEP_IDLE` after creation, or as their next change says. Those from before the `outcome`
+    column have their last outcomes moved out of the documents into it (they stay there, read
+    as before: `last_shot` refers to a logged input's outcome instead). Logged inputs get the
+    `rack` column, read once from their documents, and the index over it; the quick-match queue
+    its `alive` column. The trigger is made again on every open, so that an older one is
+    replaced."""
+    columns = await _columns(db, "tables")
     if "expires" not in columns:
         await db.execute("ALTER TABLE tables ADD COLUMN expires REAL")
         await db.execute("UPDATE tables SET expires = created + ?", (KEEP_IDLE,))
@@ -146,19 +160,32 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
             outcome = record.last_outcome and dump(record.last_outcome)
             moved = (dump(record, exclude=_DOC), outcome, table_id)
             await db.execute("UPDATE tables SET doc = ?, outcome = ? WHERE id = ?", moved)
-    if "played_doc" not in columns:
-        await db.execute("ALTER TABLE tables ADD COLUMN played_doc TEXT")
+    for column in ("played_doc", "last_shot"):
+        if column not in columns:
+            await db.execute(f"ALTER TABLE tables ADD COLUMN {column} TEXT")
+    if "rack" not in await _columns(db, "inputs"):
+        await db.execute("ALTER TABLE inputs ADD COLUMN rack INTEGER")
+        await db.execute("UPDATE inputs SET rack = json_extract(doc, '$.rack')")
+        await db.execute("DROP INDEX IF EXISTS inputs_rack")  # over json_extract(doc)
+    await db.execute("CREATE INDEX IF NOT EXISTS inputs_by_rack ON inputs (table_id, rack, seq)")
+    await db.execute("DROP TRIGGER IF EXISTS tables_log_played")
     await db.execute(LOG_PLAYED)
-    async with db.execute("PRAGMA table_info(players)") as cursor:
-        if "seen" not in {row[1] for row in await cursor.fetchall()}:
-            # Players from before invariant 15 are seen now: they expire as if new.
-            await db.execute("ALTER TABLE players ADD COLUMN seen REAL")
-            await db.execute("UPDATE players SET seen = unixepoch()")
+    if "seen" not in await _columns(db, "players"):
+        # Players from before invariant 15 are seen now: they expire as if new.
+        await db.execute("ALTER TABLE players ADD COLUMN seen REAL")
+        await db.execute("UPDATE players SET seen = unixepoch()")
     await db.execute("CREATE INDEX IF NOT EXISTS players_seen ON players (seen)")
-    async with db.execute("PRAGMA table_info(quick)") as cursor:
-        if "alive" not in {row[1] for row in await cursor.fetchall()}:
-            # Requests queued before they could lapse lapse at once (invariant 11).
-            await db.execute("ALTER TABLE quick ADD COLUMN alive REAL NOT NULL DEFAULT 0")
+    if "alive" not in await _columns(db, "quick"):
+        # Requests queued before they could lapse lapse at once (invariant 11).
+        await db.execute("ALTER TABLE quick ADD COLUMN alive REAL NOT NULL DEFAULT 0")
+
+
+def _last_outcome(by_value: str | None, logged: str | None) -> OutcomeMessage | None:
+    """A table's last outcome from its row: stored by value (`outcome`), or as the outcome of
+    the logged input its `last_shot` names."""
+    if by_value is not None:
+        return load(OutcomeMessage, by_value)
+    return None if logged is None else load(InputEntry, logged).outcome
 
 
 class SqliteStorage(Storage):
@@ -290,12 +317,16 @@ class SqliteStorage(Storage):
     async def get_table(self, table_id: str) -> TableRecord | None:
         record = self._tables.get(table_id)
         if record is None:
-            row = await self._one("SELECT doc, outcome FROM tables WHERE id = ?", table_id)
+            row = await self._one(
+                "SELECT t.doc, t.outcome, i.doc FROM tables t LEFT JOIN inputs i "
+                "ON i.table_id = t.id AND i.shot_id = t.last_shot WHERE t.id = ?",
+                table_id,
+            )
             if row is None:
                 return None
             record = load(TableRecord, row[0])
-            if row[1] is not None:
-                last = load(OutcomeMessage, row[1])
+            last = _last_outcome(row[1], row[2])
+            if last is not None:
                 record = record.model_copy(update={"last_outcome": last})
         self._remember(record)
         return record
@@ -307,17 +338,19 @@ class SqliteStorage(Storage):
         was: tuple[int, str],
         pending: str,
         new_shot: str | None = None,
-        last_outcome: str | None = None,
         logged: str | None = None,
+        last_shot: str | None = None,
     ) -> bool:
         """Store `record` (with `pending`) if the stored table is at version and pending
         `was` (and, given `new_shot`, the table has played no input of that shot id): one
-        statement, so the check and the write are one step. The last outcome is written only
-        when it is not the one the stored record has: `last_outcome`, its document, when the
-        caller has it (the JSON the service publishes), else encoded here. `logged`: the
-        document of the input that was pending, logged in `inputs` by the same statement
-        (`LOG_PLAYED`).
-        """
+        statement, so the check and the write are one step. `logged`: the document of the
+        input that was pending, logged in `inputs` by the same statement (`LOG_PLAYED`).
+
+        The last outcome is written only when it is not the one the stored record has: as
+        `last_shot`, the shot id of the logged input whose outcome it is (so a shot's outcome,
+        a break's some 30 KB, is written once, in the log, and the table's row stays small:
+        SQLite rewrites a whole row on every update, and the table's is updated twice a
+        shot), else by value in `outcome`."""
         sets = "version = ?, pending = ?, listed = ?, deadline = ?, doc = ?, expires = ?"
         args: list[object] = [
             record.version,
@@ -328,11 +361,11 @@ class SqliteStorage(Storage):
             record.expires,
         ]
         stored = self._tables.get(record.id)
-        if last_outcome is not None:
-            sets += ", outcome = ?"
-            args.append(last_outcome)
+        if last_shot is not None:
+            sets += ", last_shot = ?, outcome = NULL"
+            args.append(last_shot)
         elif stored is None or stored.last_outcome is not record.last_outcome:
-            sets += ", outcome = ?"
+            sets += ", last_shot = NULL, outcome = ?"
             args.append(record.last_outcome and dump(record.last_outcome))
         if logged is not None:
             sets += ", played_doc = ?"
@@ -368,12 +401,11 @@ class SqliteStorage(Storage):
         `inputs` through `LOG_PLAYED` (a database from before kept the pending input there
         too: it is replaced)."""
         doc = dump(entry, outcome_json and {"outcome": outcome_json})
-        last = None
-        if entry.outcome is not None and entry.outcome is record.last_outcome:
-            last = document(outcome_json.decode()) if outcome_json else dump(entry.outcome)
+        last = entry.outcome is not None and entry.outcome is record.last_outcome
         async with self._lock:
             was = (record.version - 1, entry.shot_id)
-            if not await self._write(self._db, record, was, "", last_outcome=last, logged=doc):
+            last_shot = entry.shot_id if last else None
+            if not await self._write(self._db, record, was, "", logged=doc, last_shot=last_shot):
                 return False
         self._remember(record)
         return True
@@ -404,7 +436,7 @@ class SqliteStorage(Storage):
     async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
         rows = await self._rows(  # (SQLite's JSON functions copy numbers as written)
             "SELECT json_replace(doc, '$.outcome.trajectory', NULL) FROM inputs "
-            "WHERE table_id = ? AND json_extract(doc, '$.rack') = ? "
+            "WHERE table_id = ? AND rack = ? "
             "AND seq IS NOT NULL ORDER BY seq",
             table_id,
             rack,

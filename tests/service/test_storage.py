@@ -25,6 +25,7 @@ from server.game.tables import (
 )
 from server.protocol.models import BreakEntry, Ending, PlayerInfo, Source, Status
 from server.storage import AcceptResult, RateResult, Storage
+from server.storage.records import dump
 from server.storage.sqlite import SCHEMA, SqliteStorage
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
 
@@ -375,13 +376,33 @@ async def test_expiry_is_bounded_per_call_and_earliest_first(storage: Storage) -
     assert await storage.expire_tables(later, 3) == []
 
 
+#: Each column added to `SCHEMA` since the first file, as it is written there.
+ADDED = {
+    "expires": ",\n    expires REAL",
+    "outcome": ",\n    outcome TEXT",
+    "played_doc": ",\n    played_doc TEXT",
+    "last_shot": ",\n    last_shot TEXT",
+    "rack": "\n    rack INTEGER,",
+}
+
+
+def older_schema(*columns: str) -> str:
+    """`SCHEMA` as a server from before `columns` made it (before the inputs' `rack`, they
+    were indexed by the rack in their documents)."""
+    schema = SCHEMA
+    for column in columns:
+        assert ADDED[column] in schema
+        schema = schema.replace(ADDED[column], "")
+    if "rack" in columns:
+        schema += "CREATE INDEX inputs_rack ON inputs (table_id, json_extract(doc, '$.rack'), seq);"
+    return schema
+
+
 async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Path) -> None:
     """A SQLite file written before invariant 12 opens, and its tables expire KEEP_IDLE after
     they were created (or as their next change says)."""
     path = tmp_path / "old.sqlite3"
-    old_schema = SCHEMA.replace(",\n    expires REAL", "").replace(",\n    outcome TEXT", "")
-    old_schema = old_schema.replace(",\n    played_doc TEXT", "")
-    assert old_schema != SCHEMA
+    old_schema = older_schema("expires", "outcome", "played_doc", "last_shot", "rack")
     record = a_table()
     with sqlite3.connect(path) as db:
         db.executescript(old_schema)
@@ -402,8 +423,7 @@ async def test_a_database_from_before_the_outcome_column_keeps_its_last_outcomes
 ) -> None:
     """Tables stored with the last outcome inside their document read back the same."""
     path = tmp_path / "old.sqlite3"
-    old_schema = SCHEMA.replace(",\n    outcome TEXT", "").replace(",\n    played_doc TEXT", "")
-    assert old_schema != SCHEMA
+    old_schema = older_schema("outcome", "played_doc", "last_shot", "rack")
     record = join(a_table(), BOB)
     action = refereeing.bot_input(record.state, "picker")
     entry = InputEntry(shot_id="break-0001", seat=0, input=action, version=1, accepted_at=0.0)
@@ -437,8 +457,7 @@ async def test_a_database_from_before_the_played_column_logs_what_its_tables_pla
     """A file from before `played_doc` (inputs logged by their own INSERT) gets the column and
     its trigger: an input played there is in the log, once, and a refused resolve logs nothing."""
     path = tmp_path / "old.sqlite3"
-    old_schema = SCHEMA.replace(",\n    played_doc TEXT", "")
-    assert old_schema != SCHEMA
+    old_schema = older_schema("played_doc", "last_shot", "rack")
     with sqlite3.connect(path) as db:
         db.executescript(old_schema)
     db.close()
@@ -454,6 +473,54 @@ async def test_a_database_from_before_the_played_column_logs_what_its_tables_pla
         assert await storage.resolve(after, accepted.pending)
         assert await storage.inputs(record.id) == [accepted.pending]
         assert await storage.find_input(record.id, "shot-0001") == accepted.pending
+    finally:
+        await storage.close()
+
+
+async def test_a_database_from_before_the_rack_column_keeps_its_racks_and_last_outcome(
+    tmp_path: Path,
+) -> None:
+    """A file from before the inputs' `rack` and the tables' `last_shot` columns: its logged
+    inputs are still found by rack, its last outcome (stored by value) reads back, and a shot
+    played after the upgrade stores its outcome once, in the log, referred to by the table."""
+    path = tmp_path / "old.sqlite3"
+    record = join(a_table(), BOB)
+    action = refereeing.bot_input(record.state, "picker")
+    entry = InputEntry(shot_id="break-0001", seat=0, input=action, version=1, accepted_at=0.0)
+    after, outcome = played(record, entry, refereeing.referee(record.state, action))
+    logged = [pending(record, f"shot-{i:04d}", rack).pending for i, rack in enumerate((1, 2, 2))]
+    with sqlite3.connect(path) as db:
+        db.executescript(older_schema("last_shot", "rack"))
+        doc = dump(after, exclude={"last_outcome"})
+        row = (after.id, after.version, "", 1, after.created, None, doc, 0.0, dump(outcome), None)
+        db.execute("INSERT INTO tables VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)", row)
+        for seq, e in enumerate(logged):
+            db.execute(
+                "INSERT INTO inputs VALUES (?, ?, ?, ?)", (after.id, e.shot_id, seq, dump(e))
+            )
+    db.close()
+    storage = await SqliteStorage.open(path)
+    try:
+        assert await storage.get_table(after.id) == after
+        assert await storage.rack_inputs(after.id, 2) == logged[1:]
+        accepted = pending(after, "shot-0009", 3)
+        assert (await storage.accept(accepted)).result is AcceptResult.ACCEPTED
+        nxt = accepted.pending.model_copy(
+            update={"outcome": outcome.model_copy(update={"version": 9})}
+        )
+        again = bump(accepted, pending=None, last_outcome=nxt.outcome)
+        assert await storage.resolve(again, nxt)
+    finally:
+        await storage.close()
+    with sqlite3.connect(path) as db:
+        assert db.execute("SELECT outcome, last_shot FROM tables").fetchall() == [
+            (None, "shot-0009")
+        ]
+    db.close()
+    storage = await SqliteStorage.open(path)
+    try:
+        assert (await storage.get_table(after.id)).last_outcome == nxt.outcome
+        assert [e.shot_id for e in await storage.rack_inputs(after.id, 3)] == [nxt.shot_id]
     finally:
         await storage.close()
 
