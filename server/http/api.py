@@ -567,28 +567,39 @@ ROUTES: tuple[Route, ...] = (
 )  # fmt: skip
 
 
-@web.middleware
-async def api_errors(request: web.Request, handler: Handler) -> web.StreamResponse:
-    """Every refusal under /api/ as ApiError JSON (unknown routes and methods included)."""
-    if not request.path.startswith("/api/"):
-        return await handler(request)
-    try:
-        return await handler(request)
-    except ServiceError as error:
-        return refusal(error)
-    except (StorageError, RedisError, OSError) as error:
-        return refusal(ServiceError(ErrorCode.UNAVAILABLE, f"storage unavailable: {error}"))
-    except web.HTTPNotFound:
+def refusing(handler: Handler) -> Handler:
+    """`handler` with its refusals answered as ApiError JSON. Each /api/ route is wrapped so,
+    rather than the application having a middleware: aiohttp runs an application's middleware
+    chain for every request it takes once any is installed, the relay's publishes and
+    subscribes included (measured: some 5% of the relay's CPU per publish)."""
+
+    async def answered(request: web.Request) -> web.StreamResponse:
+        try:
+            return await handler(request)
+        except ServiceError as error:
+            return refusal(error)
+        except (StorageError, RedisError, OSError) as error:
+            return refusal(ServiceError(ErrorCode.UNAVAILABLE, f"storage unavailable: {error}"))
+
+    return answered
+
+
+async def unrouted(request: web.Request) -> web.Response:
+    """An /api/ request no route takes (the last route under /api/): 405 with the methods
+    its path has, or 404, as ApiError JSON."""
+    allowed: set[str] = set()
+    for resource in request.app.router.resources():
+        if resource is not request.match_info.route.resource:
+            allowed |= (await resource.resolve(request))[1]
+    if not allowed:
         return refusal(ServiceError(ErrorCode.NOT_FOUND, f"no such resource: {request.path}"))
-    except web.HTTPMethodNotAllowed as error:
-        return web.Response(
-            text=ApiError(
-                code=ErrorCode.BAD_REQUEST, reason="method not allowed"
-            ).model_dump_json(),
-            status=405,
-            content_type=JSON,
-            headers={"Allow": ",".join(sorted(error.allowed_methods))},
-        )
+    body = ApiError(code=ErrorCode.BAD_REQUEST, reason="method not allowed")
+    return web.Response(
+        text=body.model_dump_json(),
+        status=405,
+        content_type=JSON,
+        headers={"Allow": ",".join(sorted(allowed))},
+    )
 
 
 async def _openapi(request: web.Request) -> web.Response:
@@ -607,11 +618,12 @@ def mount_api(
     grace: float = GRACE,
     names_per_address: int = NAMES_PER_ADDRESS,
 ) -> None:
-    """Add the `/api/` routes, their error handling and the service's lifetime to `app`."""
-    app.middlewares.append(api_errors)
+    """Add the `/api/` routes, their error handling and the service's lifetime to `app`
+    (after every other route: the last one takes what no route under /api/ took)."""
     for route in ROUTES:
-        app.router.add_route(route.method, route.path, route.handler)
+        app.router.add_route(route.method, route.path, refusing(route.handler))
     app.router.add_get("/api/openapi.json", _openapi)
+    app.router.add_route("*", r"/api/{path:[\s\S]*}", unrouted)
 
     async def lifetime(app: web.Application) -> AsyncIterator[None]:
         async with running_service(

@@ -82,7 +82,6 @@ def frame_message(frame: WSMessage) -> tuple[str, bytes] | None:
     return None
 
 
-SUBSCRIBE_ROUTE = "relay-subscribe"
 PREFLIGHT_HEADERS = {
     "Access-Control-Allow-Headers": "If-None-Match, If-Modified-Since, Content-Type, "
     "Cache-Control, X-EventSource-Event, Last-Event-ID",
@@ -102,7 +101,7 @@ async def add_cors_headers(request: web.Request, response: web.StreamResponse) -
     """Every answer to a subscriber request with an `Origin` names that origin, as nchan's do,
     so that a page on another origin can read it (refused origins get 403 before this)."""
     origin = request.headers.get("Origin")
-    if origin is None or request.match_info.route.name != SUBSCRIBE_ROUTE:
+    if origin is None:
         return
     response.headers["Access-Control-Allow-Origin"] = origin
     response.headers["Access-Control-Allow-Credentials"] = "true"

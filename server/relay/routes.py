@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from aiohttp import web
 
-from server.relay.http import RELAY_KEY, SUBSCRIBE_ROUTE, add_cors_headers
+from server.relay.http import RELAY_KEY, add_cors_headers
 from server.relay.openapi import openapi_document
 from server.relay.publisher import channel_info, delete_channel, publish
 from server.relay.relay import Relay
@@ -16,12 +16,19 @@ async def _openapi(request: web.Request) -> web.Response:
 
 
 def mount_relay(app: web.Application, relay: Relay) -> None:
-    """Add `/pub/{channel}`, `/sub/{channels}` and `/openapi.json` to `app`."""
+    """Add `/pub/{channel}`, `/sub/{channels}` and `/openapi.json` to `app`.
+
+    The subscriber endpoint is an application of its own, mounted at `/sub`, so that only its
+    answers pass through the hook that adds CORS headers: aiohttp runs an application's
+    response hooks for every answer it sends, the publishers' included."""
     app[RELAY_KEY] = relay
     app.router.add_post("/pub/{channel}", publish)
     app.router.add_get("/pub/{channel}", channel_info, allow_head=False)
     app.router.add_delete("/pub/{channel}", delete_channel)
-    app.router.add_get("/sub/{channels}", subscribe, allow_head=False, name=SUBSCRIBE_ROUTE)
-    app.router.add_route("OPTIONS", "/sub/{channels}", preflight)
-    app.on_response_prepare.append(add_cors_headers)
+    subscribers = web.Application()
+    subscribers[RELAY_KEY] = relay
+    subscribers.router.add_get("/{channels}", subscribe, allow_head=False)
+    subscribers.router.add_route("OPTIONS", "/{channels}", preflight)
+    subscribers.on_response_prepare.append(add_cors_headers)
+    app.add_subapp("/sub", subscribers)
     app.router.add_get("/openapi.json", _openapi)

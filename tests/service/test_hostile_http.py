@@ -58,3 +58,25 @@ async def test_the_game_api_takes_its_token_from_the_header_alone(server: TestCl
     by_query = await server.get(f"/api/me?token={ada.token}")
     assert by_query.status == 401
     assert "Authorization" in (await by_query.json())["reason"]
+
+
+@pytest.mark.parametrize(
+    ("method", "path", "status", "allow"),
+    [
+        ("GET", "/api/nothing-here", 404, None),
+        ("GET", "/api/tables/x/y/z%0Az", 404, None),
+        ("DELETE", "/api/tables", 405, "GET,POST"),
+        ("PUT", "/api/me", 405, "GET"),
+    ],
+)
+async def test_a_request_no_api_route_takes_is_refused_as_json(
+    server: TestClient, method: str, path: str, status: int, allow: str | None
+) -> None:
+    """Unknown paths and methods under /api/ get the API's JSON refusal, with `Allow` on a
+    405; elsewhere the server's own 404 stays (the relay and the pages pass through no
+    handling of the API's)."""
+    answer = await server.request(method, path)
+    assert answer.status == status and answer.headers.get("Allow") == allow
+    assert (await answer.json())["code"] == ("not_found" if status == 404 else "bad_request")
+    elsewhere = await server.get("/nothing-here")
+    assert elsewhere.status == 404 and elsewhere.content_type != "application/json"
