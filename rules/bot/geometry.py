@@ -14,7 +14,7 @@ the referee, on simulated shots, decides everything else.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, replace
 from enum import StrEnum
 
@@ -34,6 +34,12 @@ SHAPE = 3
 #: Each pocket's frame (`_pocket_frame`) by table preset, ball radius and pocket: fixed per
 #: table, and asked for by every line the look-ahead tries, so kept once worked out.
 _FRAMES: dict[tuple[str, float, Pocket], tuple[Point, float, float]] = {}
+#: An object ball's line to a pocket: (target, pocket, tolerance, distance to the pocket).
+_Line = tuple[str, Pocket, float, float]
+#: The lines (`_lines`) by table and the targets' places, up to LINES_KEPT of them (then all
+#: forgotten at once).
+_LINES: dict[tuple, tuple[_Line, ...]] = {}
+LINES_KEPT = 20_000
 #: Thinnest cut planned (cos of the cut angle): thinner cuts leave too little to aim at.
 MIN_CUT_COS = 0.2
 #: A bank's error grows this much more than its path length alone says.
@@ -139,10 +145,15 @@ def _direction(a: Point, b: Point) -> Point:
 
 
 def _leg(
-    table: Table, balls: Mapping[str, Point], mover: str, t: str, toward: Point
+    table: Table,
+    balls: Mapping[str, Point],
+    mover: str,
+    t: str,
+    toward: Point,
+    checked: bool = True,
 ) -> _Leg | None:
     """The leg of ball `mover` to the ghost that sends `t` toward `toward`, if the cut is not
-    too thin and the path is clear of every other ball."""
+    too thin and (when `checked`) the path is clear of every other ball."""
     cue, tp = balls[mover], balls[t]
     g = ghost(tp, toward, table.R)
     d1 = math.dist(cue, g)
@@ -150,7 +161,9 @@ def _leg(
         return None
     out = _direction(tp, toward)
     cos_cut = ((g[0] - cue[0]) * out[0] + (g[1] - cue[1]) * out[1]) / d1
-    if cos_cut < MIN_CUT_COS or not path_clear(cue, g, balls, table.R, ignore={mover, t}):
+    if cos_cut < MIN_CUT_COS:
+        return None
+    if checked and not path_clear(cue, g, balls, table.R, ignore={mover, t}):
         return None
     return _Leg(g, d1, cos_cut)
 
@@ -169,56 +182,131 @@ def pots(
 ) -> list[Pot]:
     """Every straight pot of one of `targets` whose two paths are clear, likeliest first (ties
     by target and pocket name, so the order is fixed)."""
-    R = table.R
-    found = []
     placed = {**balls, "cue": cue}
-    for t, pocket, tol, d2 in _open_lines(table, balls, targets):
-        leg = _leg(table, placed, "cue", t, pocket.center)
-        if leg is None:
-            continue
-        p = chance(tol, d2 * _turn(leg, R), noise)
-        found.append(Pot(t, pocket.name, cue, leg.ghost, leg.d1, leg.cos_cut, d2, p))
-    return _likeliest(found)
+    found = (_straight(table, placed, line, noise) for line in _open_lines(table, balls, targets))
+    return _likeliest([a for a in found if a is not None])
+
+
+def _straight(
+    table: Table, placed: Mapping[str, Point], line: _Line, noise: Noise, checked: bool = True
+) -> Pot | None:
+    """The straight pot along an object ball's `line` with the cue ball where `placed` has it,
+    if the cut is not too thin and (when `checked`) the cue ball's path is clear."""
+    t, pocket, tol, d2 = line
+    leg = _leg(table, placed, "cue", t, pocket.center, checked)
+    if leg is None:
+        return None
+    p = chance(tol, d2 * _turn(leg, table.R), noise)
+    return Pot(t, pocket.name, placed["cue"], leg.ghost, leg.d1, leg.cos_cut, d2, p)
+
+
+def _lines(table: Table, balls: Mapping[str, Point], targets: frozenset[str]) -> tuple[_Line, ...]:
+    """Each (target, pocket, tolerance, distance to the pocket) that can drop, its path not yet
+    checked, targets in name order and pockets in the table's. A pure function of the targets'
+    places, kept once worked out (_LINES): a ball in hand asks it from every place it tries."""
+    key = (table.preset, table.R, tuple((t, balls[t]) for t in sorted(targets)))
+    found = _LINES.get(key)
+    if found is None:
+        if len(_LINES) >= LINES_KEPT:
+            _LINES.clear()
+        found = _LINES[key] = tuple(_walk_lines(table, balls, targets))
+    return found
+
+
+def _walk_lines(
+    table: Table, balls: Mapping[str, Point], targets: frozenset[str]
+) -> Iterator[_Line]:
+    for t in sorted(targets):
+        tp = balls[t]
+        for pocket in table.pockets:
+            tol = tolerance(table, pocket, _direction(tp, pocket.center))
+            if tol > 0.0:
+                yield t, pocket, tol, math.dist(tp, pocket.center)
+
+
+def _line_open(table: Table, balls: Mapping[str, Point], line: _Line) -> bool:
+    """Whether the object ball's path along `line` is clear of every ball but the cue ball."""
+    t, pocket = line[0], line[1]
+    return path_clear(balls[t], pocket.center, balls, table.R, ignore={"cue", t})
 
 
 def _open_lines(
     table: Table, balls: Mapping[str, Point], targets: frozenset[str]
-) -> Iterator[tuple[str, Pocket, float, float]]:
-    """Each (target, pocket, tolerance, distance to the pocket) whose object-ball path is open
-    and can drop, targets in name order and pockets in the table's: the half of a straight pot
-    that does not depend on where the cue ball is."""
-    for t in sorted(targets):
-        tp = balls[t]
-        for pocket in table.pockets:
-            mouth = pocket.center
-            tol = tolerance(table, pocket, _direction(tp, mouth))
-            if tol > 0.0 and path_clear(tp, mouth, balls, table.R, ignore={"cue", t}):
-                yield t, pocket, tol, math.dist(tp, mouth)
+) -> Iterator[_Line]:
+    """The lines (`_lines`) whose object-ball path is open: the half of a straight pot that
+    does not depend on where the cue ball is."""
+    return (line for line in _lines(table, balls, targets) if _line_open(table, balls, line))
 
 
-def best_chance(
+def best_pots(
+    table: Table,
+    cue: Point,
+    balls: Mapping[str, Point],
+    targets: frozenset[str],
+    noise: Noise,
+    n: int,
+    worth: Callable[[Pot], float],
+) -> list[Pot]:
+    """The first `n` of `pots` ordered by `worth` (ties: likeliest first), the same answer
+    for less: every pot is aimed without looking at the other balls, and the paths are
+    checked from the best down only until `n` are clear (the look-ahead wants a position's
+    best pot or two, not every one, and checking paths is most of its cost)."""
+    placed = {**balls, "cue": cue}
+    aimed = []
+    for line in _lines(table, balls, targets):
+        a = _straight(table, placed, line, noise, checked=False)
+        if a is not None:
+            aimed.append((a, line))
+    ranked = sorted(_likeliest_lines(aimed), key=lambda al: -worth(al[0]))
+    found: list[Pot] = []
+    for a, line in ranked:
+        if len(found) == n:
+            break
+        clear = path_clear(cue, a.ghost, placed, table.R, ignore={"cue", a.target})
+        if clear and _line_open(table, balls, line):
+            found.append(a)
+    return found
+
+
+def best_chances(
     table: Table,
     places: list[Point],
     balls: Mapping[str, Point],
     targets: frozenset[str],
     noise: Noise,
-) -> float:
-    """The chance of the likeliest straight pot of one of `targets` with the cue ball at any of
-    `places` (`pots` from each place, 0 when none is open): each object ball's way to each
-    pocket is checked once for all the places."""
-    R = table.R
-    best = 0.0
-    with_cue = [{**balls, "cue": place} for place in places]
-    for t, pocket, tol, d2 in _open_lines(table, balls, targets):
-        for placed in with_cue:
-            leg = _leg(table, placed, "cue", t, pocket.center)
-            if leg is not None:
-                best = max(best, chance(tol, d2 * _turn(leg, R), noise))
+) -> dict[str, float]:
+    """For each of `targets`, the chance of its likeliest straight pot with the cue ball at any
+    of `places` (`pots` from each place; 0 when none is open), paths checked from the likeliest
+    down only until one is clear, each object ball's way to a pocket at most once."""
+    aimed = []
+    for line in _lines(table, balls, targets):
+        for place in places:
+            a = _straight(table, {**balls, "cue": place}, line, noise, checked=False)
+            if a is not None:
+                aimed.append((a, line))
+    best = dict.fromkeys(targets, 0.0)
+    line_open: dict[tuple[str, str], bool] = {}
+    for a, line in sorted(aimed, key=lambda al: -al[0].chance):
+        if best[a.target] > 0.0:
+            continue
+        key = (a.target, a.pocket)
+        if key not in line_open:
+            line_open[key] = _line_open(table, balls, line)
+        if line_open[key] and path_clear(a.cue, a.ghost, balls, table.R, ignore={"cue", a.target}):
+            best[a.target] = a.chance
     return best
 
 
+def _order(a: Pot) -> tuple:
+    return (-a.chance, a.target, a.pocket, a.via, a.ghost)
+
+
 def _likeliest(found: list[Pot]) -> list[Pot]:
-    return sorted(found, key=lambda a: (-a.chance, a.target, a.pocket, a.via, a.ghost))
+    return sorted(found, key=_order)
+
+
+def _likeliest_lines(aimed: list[tuple[Pot, _Line]]) -> list[tuple[Pot, _Line]]:
+    return sorted(aimed, key=lambda al: _order(al[0]))
 
 
 def banks(

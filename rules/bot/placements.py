@@ -24,9 +24,12 @@ from rules.state import State
 BEHIND = (0.2, 0.45)
 ANGLES = (0.0, 20.0, -20.0)
 OPEN_POTS = 4
-#: The D: radii as fractions of its radius, and angles (degrees) from the baulk line.
+#: The D: radii as fractions of its radius, and angles (degrees) from the baulk line; the
+#: coarse set (one arc) is for valuing a ball in hand in the D rather than placing it, which
+#: the look-ahead does for every foul it foresees, so it must be cheap.
 D_RADII = (0.2, 0.55, 0.9)
 D_ANGLES = (0, 30, 60, 90, 120, 150, 180)
+D_RADII_COARSE = (0.55,)
 
 
 def on_grid(p: Point) -> Point:
@@ -54,9 +57,9 @@ def _behind_targets(state: State, table: Table, balls: Mapping[str, Point]) -> l
     return found
 
 
-def _spread(region: str, table: Table) -> list[Point]:
-    """Points spread over a region: arcs in the D, a grid behind the head string, a grid over
-    the whole table (for a ball in hand anywhere when no pot is open)."""
+def _spread(region: str, table: Table, coarse: bool) -> list[Point]:
+    """Points spread over a region: arcs in the D (one when `coarse`), a grid behind the head
+    string, a grid over the whole table (for a ball in hand anywhere when no pot is open)."""
     if region == "D":
         cx = table.width / 2
         return [
@@ -64,7 +67,7 @@ def _spread(region: str, table: Table) -> list[Point]:
                 cx + f * D_RADIUS * math.cos(math.radians(a)),
                 BAULK_Y - f * D_RADIUS * math.sin(math.radians(a)),
             )
-            for f in D_RADII
+            for f in (D_RADII_COARSE if coarse else D_RADII)
             for a in D_ANGLES
         ]
     if region == "anywhere":
@@ -77,8 +80,11 @@ def _spread(region: str, table: Table) -> list[Point]:
     ]
 
 
-def placements(state: State, table: Table, balls: Mapping[str, Point]) -> list[Point]:
-    """Candidate cue-ball places for the ball in hand of `state` (`balls`: the others)."""
+def placements(
+    state: State, table: Table, balls: Mapping[str, Point], coarse: bool = False
+) -> list[Point]:
+    """Candidate cue-ball places for the ball in hand of `state` (`balls`: the others); fewer
+    in the D when `coarse`."""
     region = state.ball_in_hand
     if region is None:
         return []
@@ -88,4 +94,4 @@ def placements(state: State, table: Table, balls: Mapping[str, Point]) -> list[P
         return [p for p in placed if in_region(p, region, table) and is_free(p, balls, table.R)]
 
     near = usable(_behind_targets(state, table, balls)) if region == "anywhere" else []
-    return near or usable(_spread(region, table))
+    return near or usable(_spread(region, table, coarse))

@@ -10,7 +10,7 @@ games a next pot is also judged by the shape it leaves (`shape`: whether the cue
 on from the ghost ball, can reach a pot of the ball after it), since under the tournament
 noise most short pots are near certain and the next pot's chance alone cannot tell a run from
 a dead end. A choice pending after a foul is valued as its chooser will make it, through the
-referee's `choose`.
+referee's `choose`; its ball in hand in the D is tried from fewer places than a shot's.
 
 The scale (keep the table: between KEEP_NOTHING and KEEP_SURE; give it away: minus the
 same for the opponent) makes a pot that leaves no next shot worth less than a safety that
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 
-from rules.bot.geometry import Pot, best_chance, pots
+from rules.bot.geometry import Pot, best_chances, best_pots
 from rules.bot.noise import Noise
 from rules.bot.placements import placements
 from rules.game import Outcome, choose
@@ -99,7 +99,13 @@ def shape(state: State, table: Table, pot: Pot, balls: dict[str, Point], noise: 
     following = referee(state.game).targets(state, left)
     if not following or len(following) > SHAPE_TARGETS:
         return 1.0
-    return best_chance(table, cue_after(table, pot, balls), left, following, noise)
+    chances = best_chances(table, cue_after(table, pot, balls), left, following, noise)
+    return max(chances.values())
+
+
+def _unshaped(state: State, a: Pot) -> float:
+    """The worth of pot `a` from its chance and points alone."""
+    return keep(state, a.chance, _ball_points(state, a.target))
 
 
 def _pot_worth(
@@ -121,12 +127,12 @@ def _best_from(
     noise: Noise,
     shaped: bool = False,
 ) -> float:
-    """The worth of having the table with the cue ball at `cue`: its likeliest pot's, or (when
-    `shaped`) the best of its likeliest SHAPE_POTS pots' with the shape each leaves."""
+    """The worth of having the table with the cue ball at `cue`: its best pot's (by chance
+    and points), or (when `shaped`) the best of its likeliest SHAPE_POTS pots' with the shape
+    each leaves."""
     now = referee(state.game).targets(state, balls)
-    found = pots(table, cue, balls, now, noise)
-    if shaped:
-        found = found[:SHAPE_POTS]
+    n = SHAPE_POTS if shaped else 1
+    found = best_pots(table, cue, balls, now, noise, n, lambda a: _unshaped(state, a))
     return max(
         (_pot_worth(state, table, a, balls, noise, shaped) for a in found),
         default=keep(state, 0.0, 0),
@@ -142,7 +148,8 @@ def position_value(state: State, noise: Noise) -> float:
         shaped = state.game in (Game.NINEBALL, Game.EIGHTBALL)
         return _best_from(state, table, state.balls["cue"], dict(state.balls), noise, shaped)
     balls = {b: p for b, p in state.balls.items() if b != "cue"}
-    spots = placements(state, table, balls) + ([state.balls["cue"]] if "cue" in state.balls else [])
+    spots = placements(state, table, balls, coarse=True)
+    spots += [state.balls["cue"]] if "cue" in state.balls else []
     floor = IN_HAND_ANYWHERE if state.ball_in_hand == "anywhere" else 0.0
     values = (_best_from(state, table, p, {**balls, "cue": p}, noise) for p in spots)
     return max([keep(state, floor, 0), *values])

@@ -5,10 +5,11 @@ closer to its line than the plain ghost-ball aim."""
 from __future__ import annotations
 
 import math
+import random
 
 import physics
 from rules.bot.candidates import Candidate, Kind, pot_speed
-from rules.bot.geometry import Via, banks, combos, pots
+from rules.bot.geometry import Via, banks, best_pots, combos, pots
 from rules.bot.noise import tournament
 from rules.bot.search import throw_corrected
 from rules.game import play, scene, shot_position
@@ -100,3 +101,21 @@ def test_a_pot_the_engine_fails_on_is_kept_uncorrected():
         raise physics.BudgetExceeded("the engine gave up")
 
     assert throw_corrected(state, plain, failing) == plain
+
+
+def test_best_pots_are_the_pots_ranked_by_worth():
+    """best_pots checks paths lazily, from the best down: the same pots as every pot ranked by
+    the worth given (ties likeliest first), on crowded random racks."""
+    rng = random.Random(5)
+    for _ in range(30):
+        balls = {str(k): (rng.uniform(0.1, 1.17), rng.uniform(0.1, 2.44)) for k in range(1, 10)}
+        balls["cue"] = (rng.uniform(0.1, 1.17), rng.uniform(0.1, 2.44))
+        targets = frozenset(rng.sample([str(k) for k in range(1, 10)], 4))
+
+        def worth(a) -> float:
+            return a.chance * (1 + int(a.target))
+
+        every = pots(T, balls["cue"], balls, targets, NOISE)
+        for n in (1, 2):
+            ranked = sorted(every, key=lambda a: -worth(a))[:n]
+            assert best_pots(T, balls["cue"], balls, targets, NOISE, n, worth) == ranked

@@ -7,10 +7,11 @@ import math
 
 from rules.bot.geometry import pots
 from rules.bot.noise import tournament
+from rules.bot.placements import placements
 from rules.bot.value import cue_after, keep, position_value, shape
-from rules.racks import Game
+from rules.racks import Game, rack
 from rules.referee import referee
-from rules.spots import POOL_TABLE, is_free
+from rules.spots import POOL_TABLE, SNOOKER, in_region, is_free
 from rules.state import State
 
 NOISE = tournament(1.0)
@@ -70,3 +71,13 @@ def test_the_cue_ball_is_sent_only_where_it_can_stop():
     for x, y in places:
         assert R <= x <= POOL_TABLE.width - R and R <= y <= POOL_TABLE.length - R
         assert is_free((x, y), left, R)
+
+
+def test_a_ball_in_hand_in_the_d_is_valued_from_fewer_places_all_in_the_d():
+    """The look-ahead values the D from one arc of the places a shot's search tries."""
+    state = State(game=Game.SNOOKER, balls=dict(rack(Game.SNOOKER, 1)), ball_in_hand="D")
+    balls = {b: p for b, p in state.balls.items() if b != "cue"}
+    fine = placements(state, SNOOKER, balls)
+    coarse = placements(state, SNOOKER, balls, coarse=True)
+    assert coarse and len(coarse) < len(fine) and set(coarse) <= set(fine)
+    assert all(in_region(p, "D", SNOOKER) for p in coarse)
