@@ -230,6 +230,12 @@ def _line_open(table: Table, balls: Mapping[str, Point], line: _Line) -> bool:
     return path_clear(balls[t], pocket.center, balls, table.R, ignore={"cue", t})
 
 
+def _cue_clear(table: Table, balls: Mapping[str, Point], a: Pot) -> bool:
+    """Whether the cue ball's path of pot `a` (aimed unchecked) is clear of every ball but
+    its target (`balls`' own cue ball, wherever it is, is not in the way)."""
+    return path_clear(a.cue, a.ghost, balls, table.R, ignore={"cue", a.target})
+
+
 def _open_lines(
     table: Table, balls: Mapping[str, Point], targets: frozenset[str]
 ) -> Iterator[_Line]:
@@ -262,8 +268,7 @@ def best_pots(
     for a, line in ranked:
         if len(found) == n:
             break
-        clear = path_clear(cue, a.ghost, placed, table.R, ignore={"cue", a.target})
-        if clear and _line_open(table, balls, line):
+        if _cue_clear(table, placed, a) and _line_open(table, balls, line):
             found.append(a)
     return found
 
@@ -292,7 +297,7 @@ def best_chances(
         key = (a.target, a.pocket)
         if key not in line_open:
             line_open[key] = _line_open(table, balls, line)
-        if line_open[key] and path_clear(a.cue, a.ghost, balls, table.R, ignore={"cue", a.target}):
+        if line_open[key] and _cue_clear(table, balls, a):
             best[a.target] = a.chance
     return best
 

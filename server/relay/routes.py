@@ -20,7 +20,8 @@ def mount_relay(app: web.Application, relay: Relay) -> None:
 
     The subscriber endpoint is an application of its own, mounted at `/sub`, so that only its
     answers pass through the hook that adds CORS headers: aiohttp runs an application's
-    response hooks for every answer it sends, the publishers' included."""
+    response hooks for every answer it sends, the publishers' included (a cost measured
+    within the noise on a quiet machine: this is the layering, not a speed-up)."""
     app[RELAY_KEY] = relay
     app.router.add_post("/pub/{channel}", publish)
     app.router.add_get("/pub/{channel}", channel_info, allow_head=False)

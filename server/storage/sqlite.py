@@ -402,9 +402,9 @@ class SqliteStorage(Storage):
         too: it is replaced)."""
         doc = dump(entry, outcome_json and {"outcome": outcome_json})
         last = entry.outcome is not None and entry.outcome is record.last_outcome
+        last_shot = entry.shot_id if last else None
         async with self._lock:
             was = (record.version - 1, entry.shot_id)
-            last_shot = entry.shot_id if last else None
             if not await self._write(self._db, record, was, "", logged=doc, last_shot=last_shot):
                 return False
         self._remember(record)
