@@ -102,10 +102,12 @@ def run_row(row: Row, games: int, seed: int, args: argparse.Namespace) -> dict:
 
     def progress(i, game, sa, sb) -> None:
         lo, hi = wilson(sa.wins, i + 1)
+        a_seat = i % 2  # the arena alternates the break: a holds seat 0 in even games
+        lost = f", {sa.name} lost: {game.loss}" if game.winner == 1 - a_seat else ""
         print(
             f"{row.label}: game {i + 1}/{games}, {sa.name} {sa.wins} - {sb.wins} {sb.name}"
             f" ({sa.wins / (i + 1):.0%} [{lo:.2f}, {hi:.2f}], {sa.run_outs} run-outs,"
-            f" highest {sa.highest})",
+            f" highest {sa.highest}){lost}",
             file=sys.stderr,
             flush=True,
         )

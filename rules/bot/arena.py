@@ -105,6 +105,7 @@ class _Visit:
 class GameResult:
     winner: int | None  # the seat that won, None when the game hit the input cap
     inputs: int
+    loss: str | None = None  # why the loser lost (rules.bot.losses), when the game ended
 
 
 def play_game(
@@ -152,12 +153,14 @@ def play_game(
         seats[v.seat].scored += v.scored
         seats[v.seat].highest = max(seats[v.seat].highest, v.scored)
     winner = state.winner if state.over else None
-    if winner is not None:
-        seats[winner].wins += 1
-        seats[1 - winner].losses[classify(turns, 1 - winner)] += 1
-        if sum(1 for v in visits if v.seat == winner) == 1:
-            seats[winner].run_outs += 1
-    return GameResult(winner, n + 1)
+    if winner is None:
+        return GameResult(None, n + 1)
+    seats[winner].wins += 1
+    loss = classify(turns, 1 - winner)
+    seats[1 - winner].losses[loss] += 1
+    if sum(1 for v in visits if v.seat == winner) == 1:
+        seats[winner].run_outs += 1
+    return GameResult(winner, n + 1, str(loss))
 
 
 def arena(

@@ -6,8 +6,8 @@
   banks and two-ball combinations, varied in speed.
 - Contacts, which are the safeties: the nearest legal balls hit full, half-ball and thin on
   either side, soft to firm, one drawn. Kicks: when no legal ball can be hit straight,
-  contacts off one cushion, or off two when no one-cushion path is open, which is also the
-  escape from a snooker.
+  contacts off one cushion and off two, each at a fan of headings around the mirror path's
+  (a cushion is no mirror), which is the escape from a snooker.
 - Three-cushion: a fan of headings around each object ball, with running and check side, at
   two speeds; which of them score is for the simulation to say.
 - Push-outs, when the referee offers one (nine-ball, the shot after the break): soft rolls of
@@ -97,6 +97,11 @@ FINE = Strokes(
     SOFT_BREAK_SPEEDS,
 )
 KICK_SPEEDS = (1.5, 2.5, 4.0)
+#: One-cushion kicks: turns (degrees) of the mirror heading tried. With the mirror heading
+#: alone, the strongest level's escapes from 40 snookered random nine-ball positions fouled in
+#: 17% of plays under the tournament noise (mean value -0.28); with this fan, and the
+#: two-cushion kicks tried beside the one-cushion ones, in 9% (mean value -0.04).
+ONE_CUSHION_FAN = (-2.4, -1.6, -0.8, 0.0, 0.8, 1.6, 2.4)
 #: Two-cushion kicks: turns (degrees) of the mirror heading tried, since a cushion is no
 #: mirror (it gives back less speed than it took, and spin bends the path) and the error
 #: grows over two of them; the simulation finds which turn reaches the ball.
@@ -260,9 +265,7 @@ def contact_candidates(spot: Spot, targets: frozenset[str], strokes: Strokes) ->
         return out
     for t in near:
         for bounce in cushion_bounces(spot.table, spot.cue, spot.balls[t]):
-            out += kicks(spot, t, (bounce,))
-    if out:
-        return out
+            out += kicks(spot, t, (bounce,), ONE_CUSHION_FAN)
     for t in near:
         for bounces in two_cushion_paths(spot.table, spot.cue, spot.balls[t]):
             out += kicks(spot, t, bounces, TWO_CUSHION_FAN)
