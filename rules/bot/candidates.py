@@ -99,8 +99,9 @@ FINE = Strokes(
 KICK_SPEEDS = (1.5, 2.5, 4.0)
 #: One-cushion kicks: turns (degrees) of the mirror heading tried. With the mirror heading
 #: alone, the strongest level's escapes from 40 snookered random nine-ball positions fouled in
-#: 17% of plays under the tournament noise (mean value -0.28); with this fan, and the
-#: two-cushion kicks tried beside the one-cushion ones, in 9% (mean value -0.04).
+#: 16% of plays under the tournament noise (mean value -0.30); with this fan, and the
+#: two-cushion kicks tried beside the one-cushion ones, in 8% (mean value -0.06); eight-ball's,
+#: 15% (-0.38) and 12% (-0.17) (bench/escapes.py).
 ONE_CUSHION_FAN = (-2.4, -1.6, -0.8, 0.0, 0.8, 1.6, 2.4)
 #: Two-cushion kicks: turns (degrees) of the mirror heading tried, since a cushion is no
 #: mirror (it gives back less speed than it took, and spin bends the path) and the error
