@@ -9,14 +9,16 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 
 
+def _bench(*args: str) -> str:
+    """What a bench script printed, run from the repository's root."""
+    done = subprocess.run(
+        [sys.executable, *args], cwd=ROOT, capture_output=True, text=True, check=True
+    )
+    return done.stdout
+
+
 def test_a_row_prints_its_seed_its_bar_and_its_losses():
-    out = subprocess.run(
-        [sys.executable, "bench/bot.py", "--rows", "ladder:1", "--seed", "1234"],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
+    out = _bench("bench/bot.py", "--rows", "ladder:1", "--seed", "1234")
     rows = [line for line in out.splitlines() if line.startswith("ladder ")]
     assert len(rows) == 8  # four steps in the table, four in the losses
     assert all("1234" in r and ">= 60% wins" in r for r in rows[:4])
@@ -25,13 +27,7 @@ def test_a_row_prints_its_seed_its_bar_and_its_losses():
 
 
 def test_escapes_judges_each_snookered_position_on_plays_of_its_own():
-    out = subprocess.run(
-        [sys.executable, "bench/escapes.py", "--positions", "2", "--plays", "4"],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout.splitlines()
+    out = _bench("bench/escapes.py", "--positions", "2", "--plays", "4").splitlines()
     rows = [line.split() for line in out[1:-2]]
     assert len(rows) == 2
     assert all(int(r[0]) >= 20_000 and r[4].endswith("%") for r in rows)
