@@ -33,3 +33,19 @@ def test_escapes_judges_each_snookered_position_on_plays_of_its_own():
     assert all(int(r[0]) >= 20_000 and r[4].endswith("%") for r in rows)
     assert -1.0 <= float(rows[0][3]) <= 1.0
     assert out[-1].startswith("2 snookered nineball positions from seed 20000")
+
+
+def _untimed(row: str) -> list[str]:
+    """A row of the table without its two decision-time columns (median s, p95 s)."""
+    words = row.split()
+    return words[:12] + words[14:]
+
+
+def test_rows_played_at_once_are_the_rows_played_one_by_one():
+    """--jobs changes how long the table takes, not what it says: each row is a function of
+    its seed, and the rows print in the order asked for."""
+    asked = ["bench/bot.py", "--rows", "ladder:1", "--seed", "77"]
+    tables = [_bench(*asked, "--jobs", jobs).splitlines() for jobs in ("1", "2")]
+    rows = [[_untimed(r) for r in t if r.startswith("ladder ")] for t in tables]
+    assert len(rows[0]) == 8
+    assert rows[0] == rows[1]
