@@ -25,7 +25,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from rules.bot.chooser import Chooser
-from rules.bot.losses import Turn, classify
+from rules.bot.losses import Loss, Turn, classify
 from rules.bot.noise import Noise, draws, perturb
 from rules.bot.search import Report
 from rules.codes import RuleError
@@ -105,7 +105,7 @@ class _Visit:
 class GameResult:
     winner: int | None  # the seat that won, None when the game hit the input cap
     inputs: int
-    loss: str | None = None  # why the loser lost (rules.bot.losses), when the game ended
+    loss: Loss | None = None  # why the loser lost, when the game ended
 
 
 def play_game(
@@ -160,7 +160,7 @@ def play_game(
     seats[1 - winner].losses[loss] += 1
     if sum(1 for v in visits if v.seat == winner) == 1:
         seats[winner].run_outs += 1
-    return GameResult(winner, n + 1, str(loss))
+    return GameResult(winner, n + 1, loss)
 
 
 def arena(

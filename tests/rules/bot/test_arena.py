@@ -4,6 +4,7 @@ and the `billiards arena` command."""
 from __future__ import annotations
 
 import json
+from collections import Counter
 
 from rules.bot.arena import arena, wilson
 from rules.bot.chooser import Picker, chooser
@@ -42,6 +43,31 @@ def test_breaks_alternate_and_results_add_up():
     assert a.breaks == [0, 0] and b.breaks == [0, 0]  # each broke from seat 0, in turn
     assert result["a"]["wins"] + result["b"]["wins"] + result["unfinished"] == 4
     assert result["a"]["decisions"] == len(a.sent)
+
+
+def test_each_game_says_why_its_loser_lost():
+    """The progress callback gets each game's loss, and the losses tally the side's counts."""
+    results = []
+    summary = arena(
+        Game.NINEBALL,
+        Picker(),
+        Picker(),
+        6,
+        seed=3,
+        noise=tournament(1.0),
+        progress=lambda i, game, sa, sb: results.append((i, game)),
+    )
+    tallied: Counter[tuple[str, str]] = Counter()
+    for i, game in results:
+        if game.winner is None:
+            assert game.loss is None
+            continue
+        a_lost = game.winner == 1 - i % 2  # a holds seat 0 in the even-numbered games
+        tallied[("a" if a_lost else "b", str(game.loss))] += 1
+    assert tallied  # some game ended
+    for side in ("a", "b"):
+        counts = {why: n for (s, why), n in tallied.items() if s == side}
+        assert counts == summary[side]["losses"]
 
 
 def test_the_same_seed_replays_the_same_arena():
