@@ -37,8 +37,9 @@ NAMES_PER_ADDRESS = 50
 #: (requests per second, burst) per caller for what makes the server store or send something:
 #: new identities per client address (`NAMES_PER_ADDRESS`), tables, quick-match requests and
 #: heartbeats per player, quick messages per player and table (one per 2 s), aims per player
-#: and table (clients send one per 250 ms at most; one per 200 ms leaves room for the
-#: network's jitter), leaderboard claims per player (their worker time is bounded apart,
+#: and table (the web client sends one no sooner than 250 ms after the answer to the last, so
+#: that no delay on the way brings two closer than the 200 ms allowed), leaderboard claims per
+#: player (their worker time is bounded apart,
 #: server/game/budget.py). Intents need
 #: none: only the player to act may send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
