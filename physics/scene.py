@@ -28,7 +28,7 @@ from pydantic import (
 
 from physics.cue import strike as cue_strike
 from physics.params import Params
-from physics.tables import PRESETS, Geometry, TableSpec, check_table, position_problem
+from physics.tables import PRESETS, Geometry, TableSpec, position_problem, table_problem
 
 BallId = Annotated[str, StringConstraints(pattern=r"^[A-Za-z0-9_-]{1,16}$")]
 #: A JSON number: no strings, booleans, NaN or infinities.
@@ -293,10 +293,9 @@ def parse_scene(data: dict[str, Any]) -> Scene:
     overrides = _set(raw.params)
     if overrides:  # else the preset's own: a batch's scenes then share it (physics.batch)
         params = replace(params, **overrides)
-    try:
-        check_table(spec, params.R)
-    except ValueError as exc:
-        raise SceneError(str(exc)) from None
+    problem = table_problem(spec, params.R)
+    if problem:
+        raise SceneError(problem)
     scene = Scene(
         geometry=spec.geometry(),
         params=params,

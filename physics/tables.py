@@ -233,6 +233,49 @@ def check_table(spec: TableSpec, R: float) -> None:
             )
 
 
+@functools.lru_cache(maxsize=64)
+def table_problem(spec: TableSpec, R: float) -> str | None:
+    """What `check_table` finds wrong with `spec` for balls of radius R, or None; remembered,
+    since every scene on a preset table would check the same table again."""
+    try:
+        check_table(spec, R)
+    except ValueError as exc:
+        return str(exc)
+    return None
+
+
+def _clear_of(disks: list[tuple[float, float, float]], box: tuple[float, ...]) -> bool:
+    x0, y0, x1, y1 = box
+    return all(
+        math.hypot(max(x0 - cx, 0.0, cx - x1), max(y0 - cy, 0.0, cy - y1)) >= r
+        for cx, cy, r in disks
+    )
+
+
+@functools.lru_cache(maxsize=64)
+def clear_interior(spec: TableSpec, R: float, tol: float) -> tuple[float, float, float, float]:
+    """A rectangle (x0, y0, x1, y1) of the cloth where every centre is a valid rest: inside
+    the cushion lines' margin of R - tol, and clear of every pocket's capture circle and of
+    every jaw grown by R - tol. Most balls lie in it, and `position_problem` then needs no
+    distance to a pocket or a jaw. It is the cloth rectangle shrunk by the least margin (found
+    by bisection, then rounded inwards) that clears them all; empty (x0 > x1) if none does.
+    Keyed by the spec, not its geometry, whose hash costs more than the distances it saves."""
+    g = spec.geometry()
+    w, l = spec.w, spec.l
+    disks = [(p.center[0], p.center[1], p.radius) for p in g.pockets]
+    disks += [(j.center[0], j.center[1], j.radius + R - tol) for j in g.jaws]
+    box = lambda m: (m, m, w - m, l - m)  # noqa: E731
+    lo, hi = R - tol, min(w, l) / 2
+    if _clear_of(disks, box(lo)):
+        return box(lo)
+    if not _clear_of(disks, box(hi)):
+        return (1.0, 1.0, 0.0, 0.0)
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (lo, mid) if _clear_of(disks, box(mid)) else (mid, hi)
+    return box(hi + 1e-9)
+
+
 def position_problem(g: Geometry, R: float, x: float, y: float, tol: float) -> str | None:
     """Why a ball of radius R cannot rest with its centre at (x, y); None when it can.
 
@@ -241,6 +284,14 @@ def position_problem(g: Geometry, R: float, x: float, y: float, tol: float) -> s
     than tol into a jaw. This is exactly where the engine leaves a ball at rest, so a shot's
     final positions are always a valid start for the next.
     """
+    x0, y0, x1, y1 = clear_interior(g.spec, R, tol)
+    if x0 <= x <= x1 and y0 <= y <= y1:
+        return None
+    return edge_problem(g, R, x, y, tol)
+
+
+def edge_problem(g: Geometry, R: float, x: float, y: float, tol: float) -> str | None:
+    """`position_problem` found the long way: every pocket and jaw, then the cloth."""
     w, l = g.spec.w, g.spec.l
     for pocket in g.pockets:
         if math.hypot(x - pocket.center[0], y - pocket.center[1]) < pocket.radius:

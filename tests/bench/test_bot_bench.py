@@ -49,3 +49,13 @@ def test_rows_played_at_once_are_the_rows_played_one_by_one():
     rows = [[_untimed(r) for r in t if r.startswith("ladder ")] for t in tables]
     assert len(rows[0]) == 8
     assert rows[0] == rows[1]
+
+
+def test_runouts_tallies_how_each_visit_ended():
+    out = _bench("bench/runouts.py", "--positions", "4", "--level", "1").splitlines()
+    assert out[0] == "nineball level 1, 4 positions from seed 50000"
+    rows = [[int(w) for w in line.split()[1:]] for line in out[2:] if line.split()[0].isdigit()]
+    total = [int(w) for w in next(x for x in out if x.startswith("  all")).split()[1:]]
+    assert total[0] == 4 == sum(total[1:])
+    assert [sum(col) for col in zip(*rows, strict=True)] == total
+    assert out[-2].startswith(f"won {total[1] / 4:.1%}")

@@ -17,7 +17,8 @@ from physics import (
     scene_from_json,
     simulate_scene,
 )
-from physics.scene import MAX_SCENE_BYTES
+from physics.scene import CONTACT_TOLERANCE, MAX_SCENE_BYTES
+from physics.tables import PRESETS, clear_interior, edge_problem
 
 R = 0.028575
 GOOD = {"table": "nineball", "balls": {"cue": [0.5, 0.5], "1": [0.5, 1.5]}}
@@ -240,3 +241,34 @@ def test_any_value_anywhere_is_a_scene_or_a_scene_error(place, value):
         parse_scene(scene)
     except SceneError as exc:
         assert "\n" not in str(exc)
+
+
+@settings(max_examples=400, deadline=None)
+@given(
+    table=st.sampled_from(sorted(PRESETS)),
+    u=st.floats(0.0, 1.0),
+    v=st.floats(0.0, 1.0),
+    custom=st.floats(0.02, 0.06),
+)
+def test_a_centre_in_the_clear_interior_is_a_valid_rest(table, u, v, custom):
+    """position_problem answers None without the distances inside `clear_interior`: that is
+    only right if the long way agrees there, on every preset and for other ball sizes."""
+    spec, params = PRESETS[table]
+    for R in (params.R, min(custom, spec.cushion_height)):
+        g = spec.geometry()
+        x0, y0, x1, y1 = clear_interior(spec, R, CONTACT_TOLERANCE)
+        assert x0 >= R - CONTACT_TOLERANCE and x0 < x1 and y0 < y1
+        x, y = x0 + u * (x1 - x0), y0 + v * (y1 - y0)
+        assert edge_problem(g, R, x, y, CONTACT_TOLERANCE) is None
+
+
+def test_the_clear_interior_is_no_larger_than_it_must_be():
+    """Grown by 0.1 mm, its edge passes through a place where a ball cannot rest."""
+    for spec, params in PRESETS.values():
+        g = spec.geometry()
+        x0, y0, x1, y1 = clear_interior(spec, params.R, CONTACT_TOLERANCE)
+        x0, y0, x1, y1 = x0 - 1e-4, y0 - 1e-4, x1 + 1e-4, y1 + 1e-4
+        n = 20_000
+        edge = [(x0 + (x1 - x0) * k / n, y) for k in range(n + 1) for y in (y0, y1)]
+        edge += [(x, y0 + (y1 - y0) * k / n) for k in range(n + 1) for x in (x0, x1)]
+        assert any(edge_problem(g, params.R, x, y, CONTACT_TOLERANCE) for x, y in edge)
