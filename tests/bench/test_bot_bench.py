@@ -59,3 +59,13 @@ def test_runouts_tallies_how_each_visit_ended():
     assert total[0] == 4 == sum(total[1:])
     assert [sum(col) for col in zip(*rows, strict=True)] == total
     assert out[-2].startswith(f"won {total[1] / 4:.1%}")
+
+
+def test_potrates_bands_every_chosen_pot_once():
+    out = _bench("bench/potrates.py", "--positions", "8", "--plays", "3").splitlines()
+    n = int(out[0].split()[0])
+    assert out[0] == f"{n} pots chosen on 8 positions from seed 90000"
+    rows = {line.split()[0]: line.split()[1:] for line in out[2:]}
+    assert n > 0 and int(rows["all"][0]) == n
+    assert sum(int(r[0]) for band, r in rows.items() if band != "all") == n
+    assert all(0.0 <= float(r[1]) <= 1.0 and 0.0 <= float(r[2]) <= 1.0 for r in rows.values())
