@@ -6,7 +6,8 @@ Takes the strongest level's first decision on N random nine-ball positions (thos
 bench/runouts.py with the cue ball on the table) wherever it is a straight pot, plays that
 shot K more times under the tournament noise on draws of its own, and prints, by the
 geometry's estimate of the pot (rules.bot.geometry.pots, the best pot on the ball the shot
-drops when played as meant), how often the ball dropped without a foul. If the pots drop as
+drops when played as meant), how often the ball dropped without a foul. A chosen pot that
+drops nothing when played as meant is counted and left out of the bands. If the pots drop as
 often as estimated, the bot's misses are the noise's, not its aim's.
 """
 
@@ -27,6 +28,7 @@ from rules.bot.geometry import pots
 from rules.bot.levels import STRONGEST
 from rules.bot.noise import draws, perturb, tournament
 from rules.game import play
+from rules.inputs import Shot
 from rules.racks import Game
 from rules.referee import allowed, table_of
 from rules.state import State
@@ -35,15 +37,12 @@ from rules.state import State
 BANDS = (0.0, 0.8, 0.95, 0.99)
 
 
-def pot_rate(bot: Bot, seed: int, state: State, plays: int) -> tuple[float, float] | None:
-    """(estimate, share dropped) of the bot's shot in `state`, if it is a straight pot that
-    drops a ball when played as meant."""
-    shot = bot.choose(state)
-    if bot.last.kind != Kind.POT:
-        return None
+def pot_rate(seed: int, state: State, shot: Shot, plays: int) -> tuple[float, float] | None:
+    """(estimate, share dropped) of the pot `shot` in `state`; None when, played as meant, it
+    drops no ball or fouls (there is then no ball to hold its estimate against)."""
     exact = play(state, shot).decision
     if exact.fouls or not exact.pocketed:
-        return (0.0, 0.0)
+        return None
     ball, table, noise = exact.pocketed[0], table_of(state), tournament(1.0)
     found = pots(table, state.balls["cue"], state.balls, allowed(state).targets, noise)
     estimate = max((p.chance for p in found if p.target == ball), default=0.0)
@@ -62,14 +61,19 @@ def main() -> None:
     args = ap.parse_args()
     bot = Bot(STRONGEST, seed=1)
     found = positions(Game.NINEBALL, args.first, args.positions)
-    rates = []
+    rates, chosen = [], 0
     for k, (seed, state) in enumerate(found, 1):
-        if not state.ball_in_hand:
-            rate = pot_rate(bot, seed, state, args.plays)
+        shot = None if state.ball_in_hand else bot.choose(state)
+        if shot is not None and bot.last.kind == Kind.POT:
+            chosen += 1
+            rate = pot_rate(seed, state, shot, args.plays)
             rates += [rate] if rate is not None else []
-        print(f"\r{k}/{len(found)}: {len(rates)} pots", end="", file=sys.stderr, flush=True)
+        print(f"\r{k}/{len(found)}: {chosen} pots", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
-    print(f"{len(rates)} pots chosen on {len(found)} positions from seed {args.first}")
+    print(
+        f"{chosen} pots chosen on {len(found)} positions from seed {args.first}, "
+        f"{chosen - len(rates)} of them dropping nothing as meant (left out)"
+    )
     print(f"{'estimate':<12}{'pots':>5}{'estimated':>10}{'dropped':>9}")
     bounds = [*BANDS, 1.01]
     rows = [(f"{lo:.2f}-{hi:.2f}", lo, hi) for lo, hi in itertools.pairwise(bounds)]
