@@ -39,9 +39,8 @@ NAMES_PER_ADDRESS = 50
 #: heartbeats per player, quick messages per player and table (one per 2 s), aims per player
 #: and table (the web client sends one no sooner than 250 ms after the answer to the last, so
 #: that no delay on the way brings two closer than the 200 ms allowed), leaderboard claims per
-#: player (their worker time is bounded apart,
-#: server/game/budget.py). Intents need
-#: none: only the player to act may send one, and it waits for the previous outcome.
+#: player (their worker time is bounded apart, server/game/budget.py). Intents need none: only
+#: the player to act may send one, and it waits for the previous outcome.
 LIMITS: dict[str, tuple[float, int]] = {
     "register": (NAMES_PER_ADDRESS / ONLINE, NAMES_PER_ADDRESS),
     "create": (1.0, 20),
