@@ -465,7 +465,10 @@ def played(
     result: refereeing.Refereed,
     replay: str | None = None,
 ) -> tuple[TableRecord, OutcomeMessage]:
-    """The table after an accepted input was played, and the outcome that announces it.
+    """The table after an accepted input was played, and the outcome that announces it,
+    without its motion: the table keeps it so as its last outcome (a view carries no motion:
+    the channel and the rack's replay do), and `outcome_json` writes the motion in, from the
+    worker's JSON, for the input log and the channel.
 
     A finished rack counts for its winner; the match ends at `race_to` racks, otherwise the
     next rack is racked at once with the break alternating (practice tables rack forever).
@@ -510,7 +513,7 @@ def played(
         seat=entry.seat,
         input=entry.input,
         decision=result.decision,
-        trajectory=result.trajectory,
+        trajectory=None,  # written from result.trajectory_json (`outcome_json`), kept by no table
         state=after.state,
         next=constraints(after),
         rack=after.rack,

@@ -175,7 +175,7 @@ class WorkerPool:
             idle.put_nowait(worker)
 
     async def referee(self, state: State, action: PlayerInput) -> refereeing.Refereed:
-        return await self._run(refereeing.referee, state, action)
+        return await self._run(refereeing.referee_for_table, state, action)
 
     async def bot_input(self, state: State, bot: str) -> PlayerInput:
         return await self._run(refereeing.bot_input, state, bot)

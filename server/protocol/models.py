@@ -420,7 +420,11 @@ class TableView(BaseModel):
     racks_won: tuple[int, int]
     state: State
     next: Constraints | None
-    last_outcome: OutcomeMessage | None = None
+    last_outcome: OutcomeMessage | None = Field(
+        default=None,
+        description="the last input played, without its motion (trajectory null): the channel "
+        "carried that once",
+    )
     presence: tuple[bool, bool] = (True, True)
     spectators: int = 0
     winner: Seat | None = None

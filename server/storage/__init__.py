@@ -24,7 +24,9 @@ What a backend must guarantee
    each with its outcome, and `rack_inputs` those of one rack alone, in the same order, their
    outcomes without trajectories (a rack's end reads its own inputs, not the whole match's,
    for their inputs and states: the motion is most of their bytes); `find_input` finds one by
-   shot id, pending or resolved, with its whole outcome.
+   shot id, pending or resolved, with its whole outcome. A stored table's last outcome
+   (`get_table`) is without its trajectory too, whatever the record stored held: the motion
+   is kept once, in the log.
 6. **Listing.** `listed_tables` returns the tables whose last stored record is `listed` (public,
    open or playing), newest first, at most `limit`; `due_tables` those whose last stored
    record has a `deadline` at or before a time, earliest first.
@@ -90,7 +92,13 @@ from server.game.challenge_record import ChallengeRecord
 from server.game.history import MatchResult
 from server.game.ratings import Rating
 from server.game.tables import InputEntry, TableRecord
-from server.protocol.models import BreakEntry, PlayerInfo, QuickStatus, ReplayView
+from server.protocol.models import (
+    BreakEntry,
+    OutcomeMessage,
+    PlayerInfo,
+    QuickStatus,
+    ReplayView,
+)
 
 
 class RateResult(StrEnum):
@@ -344,4 +352,16 @@ def without_motion(entry: InputEntry) -> InputEntry:
     outcome = entry.outcome
     if outcome is None or outcome.trajectory is None:
         return entry
-    return entry.model_copy(update={"outcome": outcome.model_copy(update={"trajectory": None})})
+    return entry.model_copy(update={"outcome": _motionless(outcome)})
+
+
+def last_without_motion(record: TableRecord) -> TableRecord:
+    """The table with its last outcome's trajectory left out (`get_table`, invariant 5)."""
+    outcome = record.last_outcome
+    if outcome is None or outcome.trajectory is None:
+        return record
+    return record.model_copy(update={"last_outcome": _motionless(outcome)})
+
+
+def _motionless(outcome: OutcomeMessage) -> OutcomeMessage:
+    return outcome.model_copy(update={"trajectory": None})

@@ -41,6 +41,7 @@ from server.storage import (
     RateResult,
     Storage,
     StorageError,
+    last_without_motion,
     paired,
     waiting,
     without_motion,
@@ -326,7 +327,7 @@ class RedisStorage(Storage):
 
     async def get_table(self, table_id: str) -> TableRecord | None:
         doc = await self._redis.hget(f"{P}t:{table_id}", "doc")
-        return load(TableRecord, doc) if doc else None
+        return last_without_motion(load(TableRecord, doc)) if doc else None
 
     async def accept(self, record: TableRecord) -> Accepted:
         entry = record.pending
@@ -345,13 +346,13 @@ class RedisStorage(Storage):
         entry: InputEntry | None,
         outcome_json: bytes | None = None,
     ) -> bool:
-        """`outcome_json`: the JSON of `entry`'s outcome, which is also `record`'s last one."""
-        last = outcome_json and {"last_outcome": outcome_json}
+        """`outcome_json`: the JSON of `entry`'s outcome (logged; the record's last outcome
+        is stored without its motion, invariant 5)."""
         args = [
             record.version - 1,
             pending,
             record.version,
-            dump(record, last if entry and entry.outcome is record.last_outcome else None),
+            dump(last_without_motion(record)),
             record.id,
             int(record.listed),
             record.created,

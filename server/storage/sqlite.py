@@ -43,6 +43,7 @@ from server.storage import (
     AcceptResult,
     RateResult,
     Storage,
+    last_without_motion,
     paired,
     waiting,
 )
@@ -181,8 +182,8 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
 
 
 def _last_outcome(by_value: str | None, logged: str | None) -> OutcomeMessage | None:
-    """A table's last outcome from its row: stored by value (`outcome`), or as the outcome of
-    the logged input its `last_shot` names."""
+    """A table's last outcome from its row (read without its motion): stored by value
+    (`outcome`), or as the outcome of the logged input its `last_shot` names."""
     if by_value is not None:
         return load(OutcomeMessage, by_value)
     return None if logged is None else load(InputEntry, logged).outcome
@@ -237,8 +238,9 @@ class SqliteStorage(Storage):
         return cursor.rowcount
 
     def _remember(self, record: TableRecord) -> None:
-        """Keep `record` as its table's last committed one (called after the commit)."""
-        self._tables[record.id] = record
+        """Keep `record` as its table's last committed one (called after the commit), as
+        `get_table` reads it back: its last outcome without the motion (invariant 5)."""
+        self._tables[record.id] = last_without_motion(record)
         self._tables.move_to_end(record.id)
         if len(self._tables) > CACHED_TABLES:
             self._tables.popitem(last=False)
@@ -318,8 +320,10 @@ class SqliteStorage(Storage):
         record = self._tables.get(table_id)
         if record is None:
             row = await self._one(
-                "SELECT t.doc, t.outcome, i.doc FROM tables t LEFT JOIN inputs i "
-                "ON i.table_id = t.id AND i.shot_id = t.last_shot WHERE t.id = ?",
+                "SELECT t.doc, json_replace(t.outcome, '$.trajectory', NULL), "
+                "json_replace(i.doc, '$.outcome.trajectory', NULL) FROM tables t "
+                "LEFT JOIN inputs i ON i.table_id = t.id AND i.shot_id = t.last_shot "
+                "WHERE t.id = ?",
                 table_id,
             )
             if row is None:

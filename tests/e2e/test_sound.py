@@ -14,9 +14,16 @@ SOUNDING = {"strike", "ball_ball", "ball_cushion", "ball_jaw", "ball_pocket"}
 
 
 def sounding_events(page, server) -> Counter:
-    """The sounding events of the page's practice table's last outcome, by type."""
+    """The sounding events of the page's practice table's last outcome, by type. A view
+    carries its last outcome without the motion, so the shot is sent again: a resend is
+    answered with its first outcome, whole, and plays nothing."""
+    api = Api(page, server)
     table = page.evaluate("localStorage.getItem('billiards.practice.nineball')")
-    events = Api(page, server).table(table)["last_outcome"]["trajectory"]["events"]
+    last = api.table(table)["last_outcome"]
+    again = {"version": last["version"] - 1, "shot_id": last["shot_id"], "input": last["input"]}
+    answer = api.call("POST", f"/api/tables/{table}/intents", again)
+    assert answer["status"] == "duplicate" and answer["outcome"]["version"] == last["version"]
+    events = answer["outcome"]["trajectory"]["events"]
     return Counter(e["type"] for e in events if e["type"] in SOUNDING)
 
 

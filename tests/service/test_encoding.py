@@ -27,20 +27,26 @@ def test_excluded_fields_are_left_out_and_an_empty_object_stays_json() -> None:
 
 
 def test_a_shots_outcome_json_is_the_outcome_with_the_workers_trajectory() -> None:
-    """The outcome published and stored reads back as the model, its trajectory written from
-    the bytes the worker encoded, not encoded again; an outcome without motion is whole."""
+    """The worker's answer carries the motion as its JSON alone; the outcome published and
+    stored reads back as the outcome the table keeps (without motion) with the trajectory
+    simulated, written from those bytes, not encoded again; an outcome without motion is
+    whole."""
     record = join(a_table(), BOB)
     action = refereeing.bot_input(record.state, "picker")
-    result = refereeing.referee(record.state, action)
-    assert result.trajectory_json is not None
-    assert Trajectory.model_validate_json(result.trajectory_json) == result.trajectory
+    simulated = refereeing.referee(record.state, action)
+    result = refereeing.referee_for_table(record.state, action)
+    assert result.trajectory is None and result.trajectory_json is not None
+    assert Trajectory.model_validate_json(result.trajectory_json) == simulated.trajectory
+    assert result.state == simulated.state and result.decision == simulated.decision
     entry = InputEntry(
         shot_id="shot-0001", seat=0, input=action, version=record.version, accepted_at=0.0
     )
     _, outcome = played(record.model_copy(update={"pending": entry}), entry, result)
+    assert outcome.trajectory is None
     data = outcome_json(outcome, result)
     assert result.trajectory_json in data
-    assert OutcomeMessage.model_validate_json(data) == outcome
+    whole = outcome.model_copy(update={"trajectory": simulated.trajectory})
+    assert OutcomeMessage.model_validate_json(data) == whole
     still = refereeing.Refereed(result.state, None, None)
     _, quiet = played(record, entry, still)
     assert OutcomeMessage.model_validate_json(outcome_json(quiet, still)) == quiet

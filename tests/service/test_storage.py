@@ -307,10 +307,10 @@ async def test_rack_inputs_are_one_racks_inputs_in_order(storage: Storage) -> No
 async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(
     open_storage: OpenStorage, encoded: bool
 ) -> None:
-    """A rack's record needs its inputs and states; `find_input`, `inputs` and the table's
-    last outcome keep the whole outcome, after a restart too, whether storage encodes the
-    outcome itself or is given the JSON the service publishes (its trajectory encoded by the
-    worker, `tables.outcome_json`)."""
+    """A rack's record needs its inputs and states; `find_input` and `inputs` keep the whole
+    outcome, after a restart too, whether storage encodes the outcome itself or is given the
+    JSON the service publishes (its trajectory encoded by the worker, `tables.outcome_json`);
+    the table's last outcome is read without its motion, whatever the stored record held."""
     storage = await open_storage()
     record = join(a_table(), BOB)
     await storage.create_table(record)
@@ -322,19 +322,24 @@ async def test_rack_inputs_leave_out_the_motion_and_keep_the_state(
     assert (await storage.accept(accepted)).result is AcceptResult.ACCEPTED
     result = refereeing.referee(record.state, action)
     after, outcome = played(accepted, entry, result)
-    assert outcome.trajectory is not None and result.trajectory_json is not None
-    stored = entry.model_copy(update={"outcome": outcome})
-    assert await storage.resolve(after, stored, outcome_json(outcome, result) if encoded else None)
+    whole = outcome.model_copy(update={"trajectory": result.trajectory})
+    assert result.trajectory is not None and outcome.trajectory is None
+    if encoded:  # the service's way: the outcome kept without motion, its JSON with it
+        stored = entry.model_copy(update={"outcome": outcome})
+        assert await storage.resolve(after, stored, outcome_json(outcome, result))
+    else:
+        stored = entry.model_copy(update={"outcome": whole})
+        assert await storage.resolve(after.model_copy(update={"last_outcome": whole}), stored)
     (logged,) = await storage.rack_inputs(record.id, 1)
     assert logged.outcome is not None and logged.outcome.trajectory is None
     assert logged.outcome.state == outcome.state and logged.input == action
-    assert [e.outcome for e in await storage.inputs(record.id)] == [outcome]  # invariant 5
-    assert (await storage.find_input(record.id, "break-0001")).outcome == outcome
+    assert [e.outcome for e in await storage.inputs(record.id)] == [whole]  # invariant 5
+    assert (await storage.find_input(record.id, "break-0001")).outcome == whole
     assert (await storage.get_table(record.id)).last_outcome == outcome
     await storage.close()
     again = await open_storage()
     assert await again.get_table(record.id) == after and after.last_outcome == outcome
-    assert (await again.find_input(record.id, "break-0001")).outcome == outcome
+    assert (await again.find_input(record.id, "break-0001")).outcome == whole
 
 
 async def test_finished_and_abandoned_tables_expire_with_their_inputs(storage: Storage) -> None:
