@@ -236,7 +236,7 @@ def row(label: str, samples: Samples, seconds: float, processes: int) -> str:
         f"| {percentile(samples.spectator_ms, 0.5):6.1f} / "
         f"{percentile(samples.spectator_ms, 0.99):6.1f} "
         f"| {percentile(samples.relay_ms, 0.99):6.1f} "
-        f"| {' / '.join(f'{1000 * cpu / max(1, samples.shots):4.1f}' for cpu in samples.cpu)} |"
+        f"| {' / '.join(f'{1000 * cpu / max(1, samples.shots):5.2f}' for cpu in samples.cpu)} |"
     )
 
 
