@@ -1,22 +1,34 @@
-"""The embedded storage: one SQLite file through aiosqlite (the default of `billiards serve`).
+"""The embedded storage: one SQLite file (the default of `billiards serve`).
 
-One connection per process, every multi-statement operation in one `BEGIN IMMEDIATE`
-transaction under an asyncio lock (aiosqlite runs statements on one thread; the lock keeps two
-coroutines' statements out of each other's transactions). The journal is WAL with
-`synchronous=NORMAL`: a committed write survives the process being killed (the server restart
-the tests do); surviving power loss too would need `synchronous=FULL`. One process owns the file.
+Every multi-statement operation is one `BEGIN IMMEDIATE` transaction under an asyncio lock
+(the lock keeps two coroutines' statements out of each other's transactions). The journal is
+WAL with `synchronous=NORMAL`: a committed write survives the process being killed (the server
+restart the tests do); surviving power loss too would need `synchronous=FULL`. One process
+owns the file.
 
-Each statement is a round trip to aiosqlite's thread (a queue, a thread wake-up, a wake-up of
-the event loop): about 140 us of CPU here, eight times the statement itself. So the hot path
-keeps them few: a read is one `execute_fetchall`; a compare-and-set is one `UPDATE ... WHERE
-version = ? AND pending = ?` whose row count says whether it held; accepting an input is that
-one statement alone (the pending input lives in the table's document until it is played, and
-the `inputs` table holds the played ones with their outcomes); so is playing it, the input
-logged by a trigger of the table's own UPDATE (`LOG_PLAYED`). And since one process owns the
-file, the last committed record of the `CACHED_TABLES` most recently used tables is kept in
-memory (write-through, after each commit): a table actor reads its table before every job,
-and parsing the stored document, the last outcome's trajectory included, was the largest cost
-of a refereed shot.
+Two connections, one per kind of work, both under that lock:
+
+- **aiosqlite's thread** runs what may take long: every transaction, every read of many rows
+  (a rack's inputs, a player's history, listings), the schema's set-up, and the WAL's
+  checkpoints (the only step that waits on the disk: it syncs the log and the file).
+- **The event loop's own connection** runs the statements that touch a row or two by its key:
+  the table's compare-and-set (accepting an input, playing it, any other change of a table:
+  one statement each), a read by key, a single-row insert. A round trip to aiosqlite's thread
+  (a queue, a thread wake-up, a wake-up of the event loop) cost the event loop more than such
+  a statement costs run in place: in bench/match_load.py moving them here cut the server's CPU
+  per refereed shot by 15% (docs/operations.md). Nothing on this connection waits on the
+  disk: it commits into the WAL without syncing and never checkpoints (`wal_autocheckpoint=0`);
+  every `CHECKPOINT_EVERY` of its writes, a checkpoint runs in the thread, holding the lock
+  as a transaction does. Nor does it wait for SQLite's write lock: only this process writes,
+  and its transactions hold the asyncio lock that every statement here takes first.
+
+The hot path keeps statements few: a compare-and-set is one `UPDATE ... WHERE version = ? AND
+pending = ?` whose row count says whether it held; accepting an input is that one statement
+alone (the pending input lives in the table's document until it is played, and the `inputs`
+table holds the played ones with their outcomes); so is playing it, the input logged by a
+trigger of the table's own UPDATE (`LOG_PLAYED`). And since one process owns the file, the last
+committed record of the `CACHED_TABLES` most recently used tables is kept in memory
+(write-through, after each commit): a table actor reads its table before every job.
 """
 
 from __future__ import annotations
@@ -51,6 +63,13 @@ from server.storage.records import dump, load
 
 #: Tables whose last stored record is kept in memory (least recently used dropped first).
 CACHED_TABLES = 1024
+#: Writes on the event loop's connection between two checkpoints of the WAL in the thread (a
+#: played shot writes 3-15 pages, a break's input with its trajectory the most; SQLite's own
+#: automatic checkpoint comes at 1,000 pages).
+CHECKPOINT_EVERY = 200
+#: Seconds the event loop's connection would wait for SQLite's write lock: never, while this
+#: process is the file's only writer (module docstring); bounded in case it is not.
+LOOP_BUSY_TIMEOUT = 0.5
 #: A table's document leaves out its last outcome, which is kept apart (see `_write`): the
 #: outcome (its trajectory is most of a record's bytes) changes once per shot, the document twice.
 _DOC = {"last_outcome"}
@@ -189,9 +208,22 @@ def _last_outcome(by_value: str | None, logged: str | None) -> OutcomeMessage | 
     return None if logged is None else load(InputEntry, logged).outcome
 
 
+def _loop_connection(path: str | Path) -> sqlite3.Connection:
+    """The event loop's connection (module docstring): commits without syncing, never
+    checkpoints, and would wait at most `LOOP_BUSY_TIMEOUT` for SQLite's write lock, which no
+    statement of this process holds when it runs (the asyncio lock)."""
+    now = sqlite3.connect(str(path), isolation_level=None, timeout=LOOP_BUSY_TIMEOUT)
+    now.execute("PRAGMA synchronous=NORMAL")
+    now.execute("PRAGMA wal_autocheckpoint=0")
+    return now
+
+
 class SqliteStorage(Storage):
-    def __init__(self, db: aiosqlite.Connection) -> None:
+    def __init__(self, db: aiosqlite.Connection, now: sqlite3.Connection) -> None:
         self._db = db
+        self._now = now
+        self._writes = 0
+        self._checkpoint: asyncio.Task[None] | None = None
         self._lock = asyncio.Lock()
         self._queued = itertools.count()
         self._tables: OrderedDict[str, TableRecord] = OrderedDict()
@@ -203,13 +235,16 @@ class SqliteStorage(Storage):
         await db.execute("PRAGMA synchronous=NORMAL")
         await db.executescript(SCHEMA)
         await _add_columns(db)
-        storage = cls(db)
+        storage = cls(db, _loop_connection(path))
         async with db.execute("SELECT COALESCE(MAX(queued), 0) + 1 FROM quick") as cursor:
             (start,) = await cursor.fetchone()
         storage._queued = itertools.count(start)
         return storage
 
     async def close(self) -> None:
+        if self._checkpoint is not None:
+            await self._checkpoint
+        self._now.close()
         await self._db.close()
 
     @asynccontextmanager
@@ -230,12 +265,34 @@ class SqliteStorage(Storage):
     async def _one(self, sql: str, *args: object) -> tuple | None:
         return next(iter(await self._rows(sql, *args)), None)
 
-    async def _alone(self, sql: str, *args: object) -> int:
-        """Run one writing statement, atomic on its own (no transaction around it: one round
-        trip, not three); the number of rows it changed."""
+    async def _keyed(self, sql: str, *args: object) -> tuple | None:
+        """The row a key names, read on the event loop's connection (module docstring)."""
         async with self._lock:
-            cursor = await self._db.execute(sql, args)
-        return cursor.rowcount
+            rows = self._now.execute(sql, args).fetchall()  # (done: no read left open)
+        return rows[0] if rows else None
+
+    async def _alone(self, sql: str, *args: object) -> int:
+        """Run one writing statement on rows a key names, atomic on its own (no transaction
+        around it), on the event loop's connection; the number of rows it changed."""
+        async with self._lock:
+            changed = self._now.execute(sql, args).rowcount
+        self._wrote()
+        return changed
+
+    def _wrote(self) -> None:
+        """Count a write on the event loop's connection: every `CHECKPOINT_EVERY`, the WAL is
+        checkpointed in aiosqlite's thread (one at a time)."""
+        self._writes += 1
+        running = self._checkpoint is not None and not self._checkpoint.done()
+        if self._writes % CHECKPOINT_EVERY == 0 and not running:
+            self._checkpoint = asyncio.create_task(self._checkpoint_wal())
+
+    async def _checkpoint_wal(self) -> None:
+        """Copy the WAL's pages into the file, under the lock: no write comes between, so the
+        checkpoint takes every page and the next write starts the WAL again from its start (a
+        checkpoint racing the writes never catches up, and the WAL would only grow)."""
+        async with self._lock:
+            await self._db.execute("PRAGMA wal_checkpoint(PASSIVE)")
 
     def _remember(self, record: TableRecord) -> None:
         """Keep `record` as its table's last committed one (called after the commit), as
@@ -251,7 +308,7 @@ class SqliteStorage(Storage):
         await self._alone("INSERT OR REPLACE INTO players VALUES (?, ?, ?)", player.id, doc, now)
 
     async def get_player(self, player_id: str) -> PlayerInfo | None:
-        row = await self._one("SELECT doc FROM players WHERE id = ?", player_id)
+        row = await self._keyed("SELECT doc FROM players WHERE id = ?", player_id)
         return load(PlayerInfo, row[0]) if row else None
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
@@ -268,11 +325,11 @@ class SqliteStorage(Storage):
         return True
 
     async def name_holder(self, key: str) -> tuple[str, float] | None:
-        row = await self._one("SELECT player, until FROM names WHERE key = ?", key)
+        row = await self._keyed("SELECT player, until FROM names WHERE key = ?", key)
         return (row[0], row[1]) if row else None
 
     async def last_seen(self, player_id: str) -> float | None:
-        row = await self._one("SELECT seen FROM players WHERE id = ?", player_id)
+        row = await self._keyed("SELECT seen FROM players WHERE id = ?", player_id)
         return row[0] if row else None
 
     async def expire_players(self, before: float, limit: int) -> list[str]:
@@ -319,7 +376,7 @@ class SqliteStorage(Storage):
     async def get_table(self, table_id: str) -> TableRecord | None:
         record = self._tables.get(table_id)
         if record is None:
-            row = await self._one(
+            row = await self._keyed(
                 "SELECT t.doc, json_replace(t.outcome, '$.trajectory', NULL), "
                 "json_replace(i.doc, '$.outcome.trajectory', NULL) FROM tables t "
                 "LEFT JOIN inputs i ON i.table_id = t.id AND i.shot_id = t.last_shot "
@@ -335,9 +392,8 @@ class SqliteStorage(Storage):
         self._remember(record)
         return record
 
-    async def _write(
+    def _write(
         self,
-        db: aiosqlite.Connection,
         record: TableRecord,
         was: tuple[int, str],
         pending: str,
@@ -347,8 +403,9 @@ class SqliteStorage(Storage):
     ) -> bool:
         """Store `record` (with `pending`) if the stored table is at version and pending
         `was` (and, given `new_shot`, the table has played no input of that shot id): one
-        statement, so the check and the write are one step. `logged`: the document of the
-        input that was pending, logged in `inputs` by the same statement (`LOG_PLAYED`).
+        statement, so the check and the write are one step, run on the event loop's
+        connection under the caller's lock. `logged`: the document of the input that was
+        pending, logged in `inputs` by the same statement (`LOG_PLAYED`).
 
         The last outcome is written only when it is not the one the stored record has: as
         `last_shot`, the shot id of the logged input whose outcome it is (so a shot's outcome,
@@ -379,8 +436,9 @@ class SqliteStorage(Storage):
         if new_shot is not None:
             sql += " AND NOT EXISTS (SELECT 1 FROM inputs WHERE table_id = ? AND shot_id = ?)"
             args += [record.id, new_shot]
-        cursor = await db.execute(sql, args)
-        return cursor.rowcount == 1
+        changed = self._now.execute(sql, args).rowcount
+        self._wrote()
+        return changed == 1
 
     async def accept(self, record: TableRecord) -> Accepted:
         """One statement: the pending input is stored in the table's document (the inputs
@@ -391,7 +449,7 @@ class SqliteStorage(Storage):
             raise ValueError("accept needs a record with its pending input")
         async with self._lock:
             was = (record.version, "")
-            accepted = await self._write(self._db, record, was, entry.shot_id, entry.shot_id)
+            accepted = self._write(record, was, entry.shot_id, entry.shot_id)
         if accepted:
             self._remember(record)
             return Accepted(AcceptResult.ACCEPTED)
@@ -409,20 +467,20 @@ class SqliteStorage(Storage):
         last_shot = entry.shot_id if last else None
         async with self._lock:
             was = (record.version - 1, entry.shot_id)
-            if not await self._write(self._db, record, was, "", logged=doc, last_shot=last_shot):
+            if not self._write(record, was, "", logged=doc, last_shot=last_shot):
                 return False
         self._remember(record)
         return True
 
     async def update(self, record: TableRecord) -> bool:
         async with self._lock:  # one statement: atomic without a transaction of its own
-            if not await self._write(self._db, record, (record.version - 1, ""), ""):
+            if not self._write(record, (record.version - 1, ""), ""):
                 return False
         self._remember(record)
         return True
 
     async def find_input(self, table_id: str, shot_id: str) -> InputEntry | None:
-        row = await self._one(
+        row = await self._keyed(
             "SELECT doc FROM inputs WHERE table_id = ? AND shot_id = ?", table_id, shot_id
         )
         if row is not None:
@@ -546,7 +604,7 @@ class SqliteStorage(Storage):
         )
 
     async def get_challenge(self, challenge_id: str) -> ChallengeRecord | None:
-        row = await self._one("SELECT doc FROM challenges WHERE id = ?", challenge_id)
+        row = await self._keyed("SELECT doc FROM challenges WHERE id = ?", challenge_id)
         return load(ChallengeRecord, row[0]) if row else None
 
     async def settle_challenge(self, challenge: ChallengeRecord) -> bool:
@@ -571,7 +629,7 @@ class SqliteStorage(Storage):
         await self._alone("INSERT OR REPLACE INTO lobby VALUES (?, ?)", player_id, until)
 
     async def in_lobby(self, player_id: str, now: float) -> bool:
-        row = await self._one("SELECT until FROM lobby WHERE player = ?", player_id)
+        row = await self._keyed("SELECT until FROM lobby WHERE player = ?", player_id)
         return row is not None and row[0] >= now
 
     # ----- replays and the leaderboard ---------------------------------------------------
@@ -579,7 +637,7 @@ class SqliteStorage(Storage):
         await self._alone("INSERT INTO replays VALUES (?, ?)", replay.id, dump(replay))
 
     async def get_replay(self, replay_id: str) -> ReplayView | None:
-        row = await self._one("SELECT doc FROM replays WHERE id = ?", replay_id)
+        row = await self._keyed("SELECT doc FROM replays WHERE id = ?", replay_id)
         return load(ReplayView, row[0]) if row else None
 
     async def add_break(self, entry: BreakEntry, key: str) -> bool:
@@ -653,7 +711,7 @@ class SqliteStorage(Storage):
             )
 
     async def _quick_value(self, player_id: str) -> str | None:
-        row = await self._one("SELECT status, alive FROM quick WHERE player = ?", player_id)
+        row = await self._keyed("SELECT status, alive FROM quick WHERE player = ?", player_id)
         if row is None or (row[0].startswith("waiting:") and row[1] < time.time()):
             return None  # a lapsed request reads as none (invariant 11)
         return row[0]

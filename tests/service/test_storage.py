@@ -25,6 +25,7 @@ from server.game.tables import (
 )
 from server.protocol.models import BreakEntry, Ending, PlayerInfo, Source, Status
 from server.storage import AcceptResult, RateResult, Storage
+from server.storage import sqlite as sqlite_storage
 from server.storage.records import dump
 from server.storage.sqlite import SCHEMA, SqliteStorage
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
@@ -421,6 +422,36 @@ async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Pa
         assert await storage.expire_tables(record.created + KEEP_IDLE, 10) == [record.id]
     finally:
         await storage.close()
+
+
+async def wal_reach(path: Path, writes: int) -> int:
+    """The bytes the WAL of a new SQLite storage at `path` reaches over `writes` single-row
+    writes on the event loop's connection, the loop yielding between them as a server's
+    does (the storage is closed after)."""
+    storage = await SqliteStorage.open(path)
+    try:
+        record = join(a_table(), BOB)
+        await storage.create_table(record)
+        for i in range(writes):
+            await storage.heartbeat(record.id, i % 2, float(i))
+            await asyncio.sleep(0)
+        return Path(f"{path}-wal").stat().st_size
+    finally:
+        await storage.close()
+
+
+async def test_sqlite_checkpoints_the_wal_in_its_thread_so_the_wal_stays_bounded(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The event loop's connection never checkpoints (that would sync the disk on the loop);
+    every CHECKPOINT_EVERY of its writes the storage checkpoints in aiosqlite's thread, so
+    the WAL restarts instead of growing with every write: without those checkpoints the same
+    writes take it several times as far."""
+    writes = 10 * sqlite_storage.CHECKPOINT_EVERY
+    bounded = await wal_reach(tmp_path / "a.sqlite3", writes)
+    monkeypatch.setattr(sqlite_storage, "CHECKPOINT_EVERY", 10 * writes)
+    unchecked = await wal_reach(tmp_path / "b.sqlite3", writes)
+    assert unchecked > 4 * bounded
 
 
 async def test_a_database_from_before_the_outcome_column_keeps_its_last_outcomes(
