@@ -11,9 +11,11 @@ Two connections, one per kind of work, both under that lock:
 - **aiosqlite's thread** runs what may take long: every transaction, every read of many rows
   (a rack's inputs, a player's history, listings), the schema's set-up, and the WAL's
   checkpoints (the only step that waits on the disk: it syncs the log and the file).
-- **The event loop's own connection** runs the statements that touch a row or two by its key:
-  the table's compare-and-set (accepting an input, playing it, any other change of a table:
-  one statement each), a read by key, a single-row insert. A round trip to aiosqlite's thread
+- **The event loop's own connection** runs the statements that touch a row or a few by their
+  key: the table's compare-and-set (accepting an input, playing it, any other change of a
+  table: one statement each), a read by key, a single-row insert, and the short transactions
+  of such statements (a name's claim, a match's rating and its result), each without an
+  await inside, so one step of the loop. A round trip to aiosqlite's thread
   (a queue, a thread wake-up, a wake-up of the event loop) cost the event loop more than such
   a statement costs run in place: in bench/match_load.py moving them here cut the server's CPU
   per refereed shot by 15% (docs/operations.md). Nothing on this connection waits on the
@@ -258,6 +260,22 @@ class SqliteStorage(Storage):
                 raise
             await self._db.execute("COMMIT")
 
+    @asynccontextmanager
+    async def _transaction_here(self) -> AsyncIterator[sqlite3.Connection]:
+        """A transaction of statements on rows their keys name, on the event loop's
+        connection: its body runs them without awaiting anything, so the whole transaction is
+        one step of the loop (module docstring)."""
+        async with self._lock:
+            now = self._now
+            now.execute("BEGIN IMMEDIATE")
+            try:
+                yield now
+            except BaseException:
+                now.execute("ROLLBACK")
+                raise
+            now.execute("COMMIT")
+        self._wrote()
+
     async def _rows(self, sql: str, *args: object) -> Iterable[sqlite3.Row]:
         async with self._lock:
             return await self._db.execute_fetchall(sql, args)
@@ -265,10 +283,14 @@ class SqliteStorage(Storage):
     async def _one(self, sql: str, *args: object) -> tuple | None:
         return next(iter(await self._rows(sql, *args)), None)
 
-    async def _keyed(self, sql: str, *args: object) -> tuple | None:
-        """The row a key names, read on the event loop's connection (module docstring)."""
+    async def _keyed_rows(self, sql: str, *args: object) -> list[tuple]:
+        """The few rows a key names, read on the event loop's connection (module docstring)."""
         async with self._lock:
-            rows = self._now.execute(sql, args).fetchall()  # (done: no read left open)
+            return self._now.execute(sql, args).fetchall()  # (read to the end: none left open)
+
+    async def _keyed(self, sql: str, *args: object) -> tuple | None:
+        """The row a key names, read on the event loop's connection."""
+        rows = await self._keyed_rows(sql, *args)
         return rows[0] if rows else None
 
     async def _alone(self, sql: str, *args: object) -> int:
@@ -312,8 +334,8 @@ class SqliteStorage(Storage):
         return load(PlayerInfo, row[0]) if row else None
 
     async def claim_name(self, key: str, player_id: str, until: float, now: float) -> bool:
-        async with self._transaction() as db:
-            claimed = await db.execute(
+        async with self._transaction_here() as db:
+            claimed = db.execute(
                 "INSERT INTO names VALUES (?, ?, ?) ON CONFLICT (key) DO UPDATE SET "
                 "player = excluded.player, until = excluded.until "
                 "WHERE names.player = excluded.player OR names.until < ?",
@@ -321,7 +343,7 @@ class SqliteStorage(Storage):
             )
             if claimed.rowcount != 1:
                 return False
-            await db.execute("UPDATE players SET seen = ? WHERE id = ?", (now, player_id))
+            db.execute("UPDATE players SET seen = ? WHERE id = ?", (now, player_id))
         return True
 
     async def name_holder(self, key: str) -> tuple[str, float] | None:
@@ -525,7 +547,9 @@ class SqliteStorage(Storage):
         await self._alone("INSERT OR REPLACE INTO heartbeats VALUES (?, ?, ?)", table_id, seat, now)
 
     async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
-        rows = await self._rows("SELECT seat, seen FROM heartbeats WHERE table_id = ?", table_id)
+        rows = await self._keyed_rows(
+            "SELECT seat, seen FROM heartbeats WHERE table_id = ?", table_id
+        )
         seen = dict(rows)
         return seen.get(0), seen.get(1)
 
@@ -544,25 +568,23 @@ class SqliteStorage(Storage):
 
     # ----- ratings ----------------------------------------------------------------------
     async def ratings(self, player_id: str) -> dict[str, Rating]:
-        rows = await self._rows("SELECT game, doc FROM ratings WHERE player = ?", player_id)
+        rows = await self._keyed_rows("SELECT game, doc FROM ratings WHERE player = ?", player_id)
         return {game: load(Rating, doc) for game, doc in rows}
 
     async def rate(self, table_id: str, game: str, ratings: dict[str, Rating]) -> RateResult:
-        async with self._transaction() as db:
-            async with db.execute("SELECT 1 FROM rated WHERE table_id = ?", (table_id,)) as c:
-                if await c.fetchone() is not None:
-                    return RateResult.ALREADY
+        async with self._transaction_here() as db:
+            if db.execute("SELECT 1 FROM rated WHERE table_id = ?", (table_id,)).fetchall():
+                return RateResult.ALREADY
             for player, rating in ratings.items():
-                async with db.execute(
+                rows = db.execute(
                     "SELECT doc FROM ratings WHERE player = ? AND game = ?", (player, game)
-                ) as cursor:
-                    row = await cursor.fetchone()
-                stored = load(Rating, row[0]).games if row else 0
+                ).fetchall()
+                stored = load(Rating, rows[0][0]).games if rows else 0
                 if rating.games != stored + 1:
                     return RateResult.CONFLICT
-            await db.execute("INSERT INTO rated VALUES (?)", (table_id,))
+            db.execute("INSERT INTO rated VALUES (?)", (table_id,))
             for player, rating in ratings.items():
-                await db.execute(
+                db.execute(
                     "INSERT OR REPLACE INTO ratings VALUES (?, ?, ?)",
                     (player, game, dump(rating)),
                 )
@@ -570,14 +592,14 @@ class SqliteStorage(Storage):
 
     # ----- match history ----------------------------------------------------------------
     async def add_result(self, result: MatchResult) -> bool:
-        async with self._transaction() as db:
-            cursor = await db.execute(
+        async with self._transaction_here() as db:
+            cursor = db.execute(
                 "INSERT OR IGNORE INTO results VALUES (?, ?)", (result.table, dump(result))
             )
             if cursor.rowcount == 0:
                 return False
             for player in result.seats:
-                await db.execute(
+                db.execute(
                     "INSERT INTO history VALUES (?, ?, ?)", (player.id, result.at, result.table)
                 )
             return True
