@@ -35,8 +35,10 @@ background worker (server/game/workers.py), at most `MAX_VERIFYING` at once per 
 
 What a break is: snooker's points in one visit and three-cushion's run as the referees count
 them, and in nine-ball and eight-ball the balls pocketed in one visit without a foul: each
-player's `State.best`, which the referees keep. After each new entry the game's top breaks
-are published on the `public-leaderboard` channel.
+player's `State.best`, which the referees keep. After each new entry that enters the game's
+top breaks, they are published on the `public-leaderboard` channel. Breaks are never removed,
+so the lowest score of a full top can only rise: an entry below the lowest this process last
+read cannot be in the top, and its rack's end neither reads the top nor publishes it.
 """
 
 from __future__ import annotations
@@ -119,13 +121,23 @@ class Breaks:
         self._refused: OrderedDict[bytes, ServiceError] = OrderedDict()
         #: The verdicts of the last records replayed (by the digest of their JSON).
         self._known: OrderedDict[bytes, refereeing.Verified | ServiceError] = OrderedDict()
+        #: Each game's lowest score of a full top, as this process last read it (module
+        #: docstring: the true one is at least as high).
+        self._floor: dict[str, int] = {}
 
     async def top(self, game: str, limit: int = TOP) -> Leaderboard:
         breaks = await self._storage.top_breaks(game, min(limit, MOST))
         return Leaderboard(game=game, ranks=ranked_options(game), breaks=breaks)
 
-    async def _announce(self, game: str) -> None:
+    async def _announce(self, game: str, scores: list[int]) -> None:
+        """Publish the game's top breaks after new entries of these `scores`, unless every one
+        is below the top's lowest score (it cannot have entered it, module docstring)."""
+        floor = self._floor.get(game)
+        if not scores or (floor is not None and max(scores) < floor):
+            return
         top = await self._storage.top_breaks(game, TOP)
+        if len(top) == TOP:
+            self._floor[game] = top[-1].score
         await self._publisher.publish(LEADERBOARD, LeaderboardMessage(game=game, breaks=top))
 
     async def rack_played(
@@ -151,7 +163,7 @@ class Breaks:
         if record.mode is Mode.PRACTICE:  # one person played every visit
             seat = 0 if best[0] >= best[1] else 1
             best, keys = (best[seat], 0), (keys[seat], None)
-        added = False
+        added: list[int] = []
         for seat, occupant in enumerate(record.seats):
             if occupant is None or tables.is_bot(occupant) or best[seat] <= 0:
                 continue
@@ -166,9 +178,9 @@ class Breaks:
             )
             key = keys[seat]
             assert key is not None  # a break above zero was scored in some visit
-            added |= await self._storage.add_break(entry, break_storage_key(key))
-        if added:
-            await self._announce(record.game)
+            if await self._storage.add_break(entry, break_storage_key(key)):
+                added.append(entry.score)
+        await self._announce(record.game, added)
         return replay
 
     def refused_before(self, body: bytes) -> None:
@@ -290,7 +302,7 @@ class Breaks:
         if not await self._storage.add_break(entry, break_storage_key(key)):
             raise ServiceError(ErrorCode.DUPLICATE, "this break is on the leaderboard already")
         await self._storage.add_replay(replay)
-        await self._announce(verified.game)
+        await self._announce(verified.game, [entry.score])
         return ClaimVerdict(accepted=True, entry=entry, replay=replay)
 
 

@@ -12,6 +12,8 @@ from rules.selfplay import selfplay
 from server.client.api_client import from_json
 from server.game import refereeing, visits
 from server.game.budget import WorkBudget
+from server.game.leaderboard import TOP
+from server.protocol.models import BreakEntry, Source
 from tests.service.conftest import Player, Ticks, register, service_of, watch
 from tests.service.test_match import picked
 
@@ -201,3 +203,23 @@ async def test_repeated_claims_are_refused_without_a_replay(server: TestClient) 
     assert (await _claim(dee, third, third_best))[:2] == (429, "rate_limited")
     assert (await _claim(dee, other, other_best))[:2] == (429, "rate_limited")  # unread
     assert breaks.replayed == replayed + 1
+
+
+async def test_an_entry_below_a_full_top_is_neither_read_nor_announced(server: TestClient) -> None:
+    """Breaks are never removed, so once this process has read a full top, an entry scoring
+    below its lowest cannot be in it: nothing is read or published for it. One as high as
+    the lowest may rank, and is announced."""
+    service = service_of(server)
+    for n in range(TOP):
+        entry = BreakEntry(game="nineball", score=9, name=f"p{n}", source=Source.MATCH, at=n)
+        assert await service.storage.add_break(entry, f"break:seeded-{n}")
+    board = await watch(server, "public-leaderboard")
+    breaks = service.breaks
+    await breaks._announce("nineball", [3])  # the first read: announced, its lowest learnt
+    await breaks._announce("nineball", [3])  # below the full top's lowest (9): skipped
+    await breaks._announce("snooker", [50])
+    first, second = [await board.next_kind("leaderboard") for _ in range(2)]
+    assert (first["game"], len(first["breaks"])) == ("nineball", TOP)
+    assert second["game"] == "snooker"
+    await breaks._announce("nineball", [9])
+    assert (await board.next_kind("leaderboard"))["game"] == "nineball"
