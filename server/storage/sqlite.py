@@ -18,7 +18,7 @@ Two connections, one per kind of work, both under that lock:
   await inside, so one step of the loop. A round trip to aiosqlite's thread
   (a queue, a thread wake-up, a wake-up of the event loop) cost the event loop more than such
   a statement costs run in place: in bench/match_load.py moving them here cut the server's CPU
-  per refereed shot by 15% (docs/operations.md). Nothing on this connection waits on the
+  per refereed shot by 13-19% (docs/operations.md). Nothing on this connection waits on the
   disk: it commits into the WAL without syncing and never checkpoints (`wal_autocheckpoint=0`);
   every `CHECKPOINT_EVERY` of its writes, a checkpoint runs in the thread, holding the lock
   as a transaction does. Nor does it wait for SQLite's write lock: only this process writes,
@@ -66,8 +66,8 @@ from server.storage.records import dump, load
 #: Tables whose last stored record is kept in memory (least recently used dropped first).
 CACHED_TABLES = 1024
 #: Writes on the event loop's connection between two checkpoints of the WAL in the thread (a
-#: played shot writes 3-15 pages, a break's input with its trajectory the most; SQLite's own
-#: automatic checkpoint comes at 1,000 pages).
+#: refereed shot's two writes add 14 pages to the WAL, a break's up to 25, measured on picker
+#: racks: some 1,400 pages a checkpoint, where SQLite's own automatic one comes at 1,000).
 CHECKPOINT_EVERY = 200
 #: Seconds the event loop's connection would wait for SQLite's write lock: never, while this
 #: process is the file's only writer (module docstring); bounded in case it is not.
