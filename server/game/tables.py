@@ -466,9 +466,9 @@ def played(
     replay: str | None = None,
 ) -> tuple[TableRecord, OutcomeMessage]:
     """The table after an accepted input was played, and the outcome that announces it,
-    without its motion: the table keeps it so as its last outcome (a view carries no motion:
-    the channel and the rack's replay do), and `outcome_json` writes the motion in, from the
-    worker's JSON, for the input log and the channel.
+    without the motion: the table keeps that outcome as its last one (a view carries no
+    motion; the channel and the rack's replay do), and `outcome_json` writes the motion in,
+    from the worker's JSON, for the input log and the channel.
 
     A finished rack counts for its winner; the match ends at `race_to` racks, otherwise the
     next rack is racked at once with the break alternating (practice tables rack forever).
