@@ -8,14 +8,17 @@ owns the file.
 
 Two connections, one per kind of work, both under that lock:
 
-- **aiosqlite's thread** runs what may take long: every transaction, every read of many rows
-  (a rack's inputs, a player's history, listings), the schema's set-up, and the WAL's
-  checkpoints (the only step that waits on the disk: it syncs the log and the file).
+- **aiosqlite's thread** runs the rest, what may take long among it: transactions over many
+  rows (expiry) and the quick-match queue's, reads of rows no index bounds (a rack's inputs
+  with their outcomes, a match's whole log, the names online), a player's history and
+  challenges, the schema's set-up, and the WAL's checkpoints (the only step that waits on the
+  disk: it syncs the log and the file).
 - **The event loop's own connection** runs the statements that touch a row or a few by their
   key: the table's compare-and-set (accepting an input, playing it, any other change of a
-  table: one statement each), a read by key, a single-row insert, and the short transactions
-  of such statements (a name's claim, a match's rating and its result), each without an
-  await inside, so one step of the loop. A round trip to aiosqlite's thread
+  table: one statement each), a read by key or of an index's first few (the lobby's listed
+  tables, the clock's due ones, a leaderboard's top), a single-row insert, and the short
+  transactions of such statements (a name's claim, a match's rating and its result), each
+  without an await inside, so one step of the loop. A round trip to aiosqlite's thread
   (a queue, a thread wake-up, a wake-up of the event loop) cost the event loop more than such
   a statement costs run in place: in bench/match_load.py moving them here cut the server's CPU
   per refereed shot by 13-19% (docs/operations.md). Nothing on this connection waits on the
@@ -284,7 +287,8 @@ class SqliteStorage(Storage):
         return next(iter(await self._rows(sql, *args)), None)
 
     async def _keyed_rows(self, sql: str, *args: object) -> list[tuple]:
-        """The few rows a key names, read on the event loop's connection (module docstring)."""
+        """The few rows a key names (or the first few of an index, a LIMIT of at most a few
+        hundred), read on the event loop's connection (module docstring)."""
         async with self._lock:
             return self._now.execute(sql, args).fetchall()  # (read to the end: none left open)
 
@@ -554,13 +558,13 @@ class SqliteStorage(Storage):
         return seen.get(0), seen.get(1)
 
     async def due_tables(self, now: float, limit: int) -> list[str]:
-        rows = await self._rows(
+        rows = await self._keyed_rows(  # (an index's first `limit`)
             "SELECT id FROM tables WHERE deadline <= ? ORDER BY deadline LIMIT ?", now, limit
         )
         return [row[0] for row in rows]
 
     async def listed_tables(self, limit: int) -> list[TableRecord]:
-        rows = await self._rows(
+        rows = await self._keyed_rows(  # (an index's first `limit`)
             "SELECT id FROM tables WHERE listed = 1 ORDER BY created DESC LIMIT ?", limit
         )
         records = [await self.get_table(table_id) for (table_id,) in rows]
@@ -678,7 +682,7 @@ class SqliteStorage(Storage):
         return True
 
     async def top_breaks(self, game: str, limit: int) -> list[BreakEntry]:
-        rows = await self._rows(
+        rows = await self._keyed_rows(  # (an index's first `limit`)
             "SELECT doc FROM breaks WHERE game = ? ORDER BY score DESC, at LIMIT ?", game, limit
         )
         return [load(BreakEntry, row[0]) for row in rows]
