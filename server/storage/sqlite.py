@@ -247,10 +247,14 @@ class SqliteStorage(Storage):
         return storage
 
     async def close(self) -> None:
-        if self._checkpoint is not None:
-            await self._checkpoint
-        self._now.close()
-        await self._db.close()
+        """Close both connections, once the checkpoint under way (if any) has ended; one that
+        failed is raised after they are closed, not instead of closing them."""
+        try:
+            if self._checkpoint is not None:
+                await self._checkpoint
+        finally:
+            self._now.close()
+            await self._db.close()
 
     @asynccontextmanager
     async def _transaction(self) -> AsyncIterator[aiosqlite.Connection]:
