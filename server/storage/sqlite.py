@@ -41,7 +41,9 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import itertools
+import shutil
 import sqlite3
+import tempfile
 import time
 from collections import OrderedDict
 from collections.abc import AsyncIterator, Iterable
@@ -224,9 +226,12 @@ def _loop_connection(path: str | Path) -> sqlite3.Connection:
 
 
 class SqliteStorage(Storage):
-    def __init__(self, db: aiosqlite.Connection, now: sqlite3.Connection) -> None:
+    def __init__(
+        self, db: aiosqlite.Connection, now: sqlite3.Connection, scratch: Path | None = None
+    ) -> None:
         self._db = db
         self._now = now
+        self._scratch = scratch  # the folder of a `:memory:` database's file, removed on close
         self._writes = 0
         self._checkpoint: asyncio.Task[None] | None = None
         self._lock = asyncio.Lock()
@@ -235,12 +240,20 @@ class SqliteStorage(Storage):
 
     @classmethod
     async def open(cls, path: str | Path) -> SqliteStorage:
+        """The storage on the file `path`; `":memory:"` is a database of this storage alone,
+        gone when it closes: a file in a folder of its own, removed on close. (SQLite's own
+        memory databases are one per connection, and this storage has two connections on one
+        database.)"""
+        scratch = None
+        if str(path) == ":memory:":
+            scratch = Path(tempfile.mkdtemp(prefix="billiards-"))
+            path = scratch / "game.sqlite"
         db = await aiosqlite.connect(str(path), isolation_level=None)
         await db.execute("PRAGMA journal_mode=WAL")
         await db.execute("PRAGMA synchronous=NORMAL")
         await db.executescript(SCHEMA)
         await _add_columns(db)
-        storage = cls(db, _loop_connection(path))
+        storage = cls(db, _loop_connection(path), scratch)
         async with db.execute("SELECT COALESCE(MAX(queued), 0) + 1 FROM quick") as cursor:
             (start,) = await cursor.fetchone()
         storage._queued = itertools.count(start)
@@ -255,6 +268,8 @@ class SqliteStorage(Storage):
         finally:
             self._now.close()
             await self._db.close()
+            if self._scratch is not None:
+                shutil.rmtree(self._scratch, ignore_errors=True)
 
     @asynccontextmanager
     async def _transaction(self) -> AsyncIterator[aiosqlite.Connection]:

@@ -424,6 +424,31 @@ async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Pa
         await storage.close()
 
 
+FAR_FUTURE = 4e9  # unix seconds: every table has expired by then
+
+
+async def test_a_memory_database_is_one_database_for_both_connections_and_gone_on_close() -> None:
+    """`:memory:` (the game service without a database file): what the event loop's
+    connection writes, the thread's reads, and the other way round; a second such storage
+    is another database; closing removes its file."""
+    storage, other = await SqliteStorage.open(":memory:"), await SqliteStorage.open(":memory:")
+    record = join(a_table(), BOB)
+    try:
+        await storage.create_table(record)  # the loop's connection
+        await storage.heartbeat(record.id, 0, 5.0)
+        assert await storage.due_tables(float("inf"), 10) == []  # the loop's, and no error
+        assert await storage.expire_tables(FAR_FUTURE, 10) == [record.id]
+        assert await storage.get_table(record.id) is None  # the thread's delete, seen here
+        await other.create_table(record)
+        assert await other.expire_tables(FAR_FUTURE, 10) == [record.id]
+        scratch = storage._scratch
+        assert scratch is not None and scratch.exists()
+    finally:
+        await storage.close()
+        await other.close()
+    assert not scratch.exists()
+
+
 async def wal_reach(path: Path, writes: int) -> int:
     """The bytes the WAL of a new SQLite storage at `path` reaches over `writes` single-row
     writes on the event loop's connection, the loop yielding between them as a server's
