@@ -135,7 +135,11 @@ class Subscription:
 
     def push(self, event: Event) -> None:
         """Deliver one live event (held back until the backlog has gone out)."""
-        if isinstance(event, ChannelClosed) and self.catch_up is not None:
+        if self._pending is None and type(event) is StoredMessage:  # `_offer`, inlined:
+            if event.key > self._newest:  # the common case, once per message and subscriber
+                self._newest = event.key
+                self.sink.offer(event)
+        elif isinstance(event, ChannelClosed) and self.catch_up is not None:
             self.catch_up.cancel()  # the end comes at once, not after the backlog
             self.sink.offer(event)
         elif self._pending is not None:

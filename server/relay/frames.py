@@ -27,6 +27,14 @@ CLOSED_TYPE = "application/vnd.relay.closed+json"
 
 
 INFO_JSON_TYPE = "text/json"  # what nchan answers for `text/json` and `application/json`
+_INFO_TEXT = "\r\n".join(  # one format per publish's answer
+    (
+        "queued messages: %d",
+        "last requested: %d sec. ago",
+        "active subscribers: %d",
+        "last message id: %s",
+    )
+)
 
 
 def wants_json(accept: str | None) -> bool:
@@ -40,13 +48,7 @@ def info_body(info: ChannelInfo, as_json: bool) -> tuple[str, str]:
     if as_json:
         return INFO_JSON_TYPE, CHANNEL_INFO.dump_json(info).decode()
     last = info.last_message_id if info.last_message_id is not None else ""
-    lines = (
-        f"queued messages: {info.messages}",
-        f"last requested: {info.requested} sec. ago",
-        f"active subscribers: {info.subscribers}",
-        f"last message id: {last}",
-    )
-    return "text/plain", "\r\n".join(lines)
+    return "text/plain", _INFO_TEXT % (info.messages, info.requested, info.subscribers, last)
 
 
 @lru_cache(maxsize=4096)  # every subscriber of a channel sends the same header

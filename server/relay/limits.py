@@ -18,14 +18,21 @@ class RateLimiter:
     ) -> None:
         self.rate = rate
         self.burst = burst
+        self._full = float(burst)  # a full bucket's tokens
         self._clock = clock
         self._buckets: dict[str, tuple[float, float]] = {}  # key -> (tokens, time)
 
     def allow(self, key: str) -> float:
         """Take one publish for `key`: 0.0 if allowed, else the seconds to wait."""
         now = self._clock()
-        tokens, then = self._buckets.get(key, (float(self.burst), now))
-        tokens = min(float(self.burst), tokens + (now - then) * self.rate)
+        bucket = self._buckets.get(key)
+        full = self._full
+        if bucket is None:
+            tokens = full
+        else:
+            tokens = bucket[0] + (now - bucket[1]) * self.rate
+            if tokens > full:
+                tokens = full
         if tokens < 1.0:
             self._buckets[key] = (tokens, now)
             return (1.0 - tokens) / self.rate

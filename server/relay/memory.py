@@ -72,17 +72,15 @@ class MemoryBackend(Backend):
         message_id = format_message_id(key)
         message = StoredMessage(channel, message_id, content_type, data, now, event, key)
         state.last_key = key
-        state.born_key = state.born_key or key
+        if state.born_key is None:
+            state.born_key = key
         state.messages.append((key, message_id, content_type, data, now, event))
         state.data_bytes += len(data)
         self._expire(state, now)
         subscribers = self.local_subscribers(channel)
         self._fan_out(channel, message)
-        return Published(
-            message=message,
-            info=self._info(state, now, subscribers),
-            had_subscribers=subscribers > 0,
-        )
+        info = self._info(state, now, subscribers, message_id)
+        return Published(message, info, subscribers > 0)
 
     async def read_since(self, channel: str, last_id: str | None, limit: int) -> Backlog:
         state = self._channels.get(channel)
@@ -101,15 +99,14 @@ class MemoryBackend(Backend):
         gap = evicted or unknown_history(after, state.born_key)
         return Backlog(messages=page, gap=gap, more=len(newer) > limit)
 
-    def _info(self, state: _Channel, now: float, subscribers: int) -> ChannelInfo:
+    def _info(
+        self, state: _Channel, now: float, subscribers: int, last: str | None = None
+    ) -> ChannelInfo:
+        """The channel's info; `last`: its last message id, if the caller has it formatted."""
         requested = -1 if state.requested_at is None else int(now - state.requested_at)
-        last = None if state.last_key is None else format_message_id(state.last_key)
-        return ChannelInfo(
-            messages=len(state.messages),
-            requested=requested,
-            subscribers=subscribers,
-            last_message_id=last,
-        )
+        if last is None and state.last_key is not None:
+            last = format_message_id(state.last_key)
+        return ChannelInfo(len(state.messages), requested, subscribers, last)
 
     async def info(self, channel: str) -> ChannelInfo | None:
         subscribers = self.local_subscribers(channel)

@@ -80,13 +80,6 @@ class _Writer:
             body = meta_header(self.cursor.text(event.channel), content_type) + body
         return body, WSMsgType.TEXT
 
-    def frame(self, event: Event) -> bytes:
-        """The whole frame of an event, shared between subscribers where it can be."""
-        if self.shared and isinstance(event, StoredMessage):
-            self.cursor.positions[event.channel] = event.id  # `advance`, without the text
-            return message_frame(event.id, event.content_type, event.data, self.meta)
-        return websocket_frame(*self.payload(event))
-
     def write_now(self, event: Event) -> bool:
         """Write the event's frame to the transport unless its buffer is full (or it closes).
 
@@ -99,7 +92,12 @@ class _Writer:
             return False
         if transport.get_write_buffer_size() >= self.high:
             return False
-        transport.write(self.frame(event))
+        if self.shared and type(event) is StoredMessage:  # one frame for every subscriber
+            self.cursor.positions[event.channel] = event.id  # `advance`, without the text
+            frame = message_frame(event.id, event.content_type, event.data, self.meta)
+        else:
+            frame = websocket_frame(*self.payload(event))
+        transport.write(frame)
         return True
 
     def start(self, queue: SendQueue) -> None:

@@ -134,6 +134,9 @@ REFUSED_JSON = [
     (b"[NaN]", "NaN"),
     (b"[1,]", "malformed JSON"),
     (b"[" * 70, "malformed JSON"),  # unbalanced: not nesting the parser can reach
+    (b'["\\ud800"]', "malformed JSON"),  # a lone surrogate: no text a client could decode
+    (b'["\xed\xa0\x80"]', "malformed JSON"),  # the same, encoded as (invalid) UTF-8
+    (b"[1] [2]", "malformed JSON"),  # trailing text
 ]
 
 
