@@ -53,12 +53,14 @@ def _too_deep() -> PayloadError:
 def _check_json_depth(data: bytes) -> None:
     """Raise if the JSON text nests deeper than MAX_DEPTH, before any parser recurses into it.
 
-    Only needed for a text with more than MAX_DEPTH opening brackets (`_decode_json` counts
-    them in C: the common case of a small message costs nothing more). Strings are blanked out
-    (a bracket inside a string is not nesting), everything but the brackets is dropped, and
+    A text with at most MAX_DEPTH opening brackets cannot nest deeper (two counts in C: the
+    common case of a small message costs nothing more). Otherwise strings are blanked out (a
+    bracket inside a string is not nesting), everything but the brackets is dropped, and
     innermost pairs `[]` are removed one level per pass: brackets left after MAX_DEPTH passes
     nest deeper than that.
     """
+    if data.count(b"[") + data.count(b"{") <= MAX_DEPTH:
+        return
     skeleton = _JSON_STRING.sub(b"", data).translate(_BRACKETS, delete=_NOT_BRACKETS)
     for _ in range(MAX_DEPTH):
         if _PAIR not in skeleton:
@@ -89,8 +91,7 @@ def _decode_json(data: bytes) -> Any:
     parser, which lets an overflowing number through as infinity, and the regular expression
     that looked for such numbers cost 2.3 us (`bench/relay.py`, docs/operations.md).
     """
-    if data.count(b"[") + data.count(b"{") > MAX_DEPTH:  # else it cannot nest deeper
-        _check_json_depth(data)
+    _check_json_depth(data)
     try:
         return _JSON_DECODER.decode(data)
     except msgspec.DecodeError as error:

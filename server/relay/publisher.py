@@ -16,21 +16,13 @@ from aiohttp import web
 
 from server.relay.errors import RelayError
 from server.relay.frames import info_body, wants_json
-from server.relay.http import (
-    RELAY_KEY,
-    bearer_token,
-    error_body,
-    error_response,
-    frame_message,
-    relay_of,
-)
+from server.relay.http import bearer_token, error_body, error_response, frame_message, relay_of
 from server.relay.messages import ChannelInfo
 from server.relay.relay import check_channel
 
 
 def _info_response(request: web.Request, info: ChannelInfo, status: int) -> web.Response:
-    accept = request.headers.get("Accept")
-    content_type, body = info_body(info, accept is not None and wants_json(accept))
+    content_type, body = info_body(info, wants_json(request.headers.get("Accept")))
     # A body of bytes: aiohttp adds no charset parameter to its type, and nchan sends none.
     return web.Response(status=status, body=body.encode(), content_type=content_type)
 
@@ -41,10 +33,10 @@ async def _read_limited(request: web.Request, limit: int) -> bytes:
     A body of a known length within the limit is read at once; a chunked one a chunk at a
     time, counted as it comes."""
     length = request.content_length
-    if length is not None and length <= limit:
-        return await request.read()
     if length is not None:
-        raise RelayError(413, f"message of {length} bytes exceeds {limit}")
+        if length > limit:
+            raise RelayError(413, f"message of {length} bytes exceeds {limit}")
+        return await request.read()
     chunks, size = [], 0
     async for chunk in request.content.iter_chunked(64 * 1024):
         size += len(chunk)
@@ -55,7 +47,7 @@ async def _read_limited(request: web.Request, limit: int) -> bytes:
 
 
 async def publish(request: web.Request) -> web.Response:
-    relay = request.app[RELAY_KEY]  # (`relay_of`, without a call: this runs for every message)
+    relay = relay_of(request)
     channel = request.match_info["channel"]
     try:
         relay.admit(channel, bearer_token(request))
