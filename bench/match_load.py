@@ -215,9 +215,9 @@ def start_server(port: int, workers: int, directory: str) -> subprocess.Popen[by
     return subprocess.Popen(command, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
-async def wait_ready(base: str) -> None:
+async def wait_ready(base: str, seconds: float = 30.0) -> None:
     async with aiohttp.ClientSession() as session:
-        for _ in range(300):
+        for _ in range(int(seconds / 0.1)):
             try:
                 async with session.get(f"{base}/api/tables") as response:
                     if response.status == 200:

@@ -28,9 +28,6 @@ from __future__ import annotations
 
 import argparse
 import asyncio
-import re
-import shutil
-import subprocess
 import sys
 import tempfile
 import time
@@ -38,11 +35,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import relay as wall  # bench/relay.py, beside this file
+from callgrind import Callgrind, available
 
 CHANNELS = 100
 IDLE_SECONDS = 5.0
 START_TIMEOUT_S = 300.0  # the server imports and starts under valgrind
-_TOTALS = re.compile(r"^(?:summary|totals):\s+(\d+)", re.MULTILINE)
 
 
 @dataclass(frozen=True)
@@ -58,50 +55,15 @@ class Counted:
         return (self.instructions - self.background) / max(count, 1)
 
 
-class Callgrind:
-    """A target's server running under callgrind; `window()` zeroes and dumps its counters."""
-
-    def __init__(self, kind: str, port: int, directory: Path) -> None:
-        self.directory = directory
-        args = [sys.executable, wall.__file__, "--serve", kind, "--port", str(port)]
-        self.process = subprocess.Popen(
-            ["valgrind", "--tool=callgrind", f"--callgrind-out-file={directory}/cg.%p", *args],
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.DEVNULL,
-        )
-        self.dumps = 0
-        wall.START_TIMEOUT_S = START_TIMEOUT_S
-        wall.wait_for_port(port, self.process, kind)
-
-    def _control(self, flag: str) -> None:
-        subprocess.run(
-            ["callgrind_control", flag, str(self.process.pid)], check=True, capture_output=True
-        )
-
-    def zero(self) -> None:
-        self._control("-z")
-
-    def dump(self) -> int:
-        """Dump the counters since the last zero; the instructions counted."""
-        self._control("-d")
-        self.dumps += 1
-        text = Path(f"{self.directory}/cg.{self.process.pid}.{self.dumps}").read_text()
-        found = _TOTALS.search(text)
-        if found is None:
-            raise RuntimeError("callgrind's dump has no totals")
-        return int(found[1])
-
-    def stop(self) -> None:
-        self.process.terminate()
-        self.process.wait()
-
-
 async def count(kind: str, publishes: int) -> Counted:
     """Start `kind`'s server under callgrind and count one window of the pairs load."""
     wall.CONNECT_TIMEOUT_S = wall.DELIVERY_TIMEOUT_S = START_TIMEOUT_S
     with tempfile.TemporaryDirectory(prefix="callgrind-") as directory:
         port = wall.free_port()
-        server = Callgrind(kind, port, Path(directory))
+        command = [sys.executable, wall.__file__, "--serve", kind, "--port", str(port)]
+        server = Callgrind(command, Path(directory))
+        wall.START_TIMEOUT_S = START_TIMEOUT_S
+        wall.wait_for_port(port, server.process, kind)
         load = wall.Load(port, wall.FULL)
         try:
             await load.subscribe([f"pair-{i // 2}" for i in range(2 * CHANNELS)])
@@ -132,7 +94,7 @@ def main() -> int:
     parser.add_argument("--publishes", type=int, default=2000, help="publishes counted")
     parser.add_argument("--targets", default="memory,bare", help="memory and/or bare")
     args = parser.parse_args()
-    if shutil.which("valgrind") is None or shutil.which("callgrind_control") is None:
+    if not available():
         print("valgrind not found: apt-get install -y valgrind", file=sys.stderr)
         return 1
     wall.raise_fd_limit()

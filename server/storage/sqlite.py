@@ -65,11 +65,15 @@ from server.storage import (
     last_without_motion,
     paired,
     waiting,
+    without_motion,
 )
+from server.storage.rack_log import RackLog
 from server.storage.records import dump, load
 
 #: Tables whose last stored record is kept in memory (least recently used dropped first).
 CACHED_TABLES = 1024
+#: Played inputs of the racks under way kept in memory, over all tables (server/storage/rack_log).
+CACHED_INPUTS = 10_000
 #: Writes on the event loop's connection between two checkpoints of the WAL in the thread (a
 #: refereed shot's two writes add 14 pages to the WAL, a break's up to 25, measured on picker
 #: racks: some 1,400 pages a checkpoint, where SQLite's own automatic one comes at 1,000).
@@ -237,6 +241,7 @@ class SqliteStorage(Storage):
         self._lock = asyncio.Lock()
         self._queued = itertools.count()
         self._tables: OrderedDict[str, TableRecord] = OrderedDict()
+        self._racks = RackLog(CACHED_INPUTS)
 
     @classmethod
     async def open(cls, path: str | Path) -> SqliteStorage:
@@ -341,7 +346,14 @@ class SqliteStorage(Storage):
 
     def _remember(self, record: TableRecord) -> None:
         """Keep `record` as its table's last committed one (called after the commit), as
-        `get_table` reads it back: its last outcome without the motion (invariant 5)."""
+        `get_table` reads it back: its last outcome without the motion (invariant 5). A record
+        that moves its table to another rack begins that rack's log in memory, empty; a
+        finished table's is dropped (no rack of it ends again)."""
+        known = self._tables.get(record.id)
+        if record.finished:
+            self._racks.forget(record.id)
+        elif known is not None and known.rack != record.rack:
+            self._racks.begin(record.id, record.rack)
         self._tables[record.id] = last_without_motion(record)
         self._tables.move_to_end(record.id)
         if len(self._tables) > CACHED_TABLES:
@@ -416,6 +428,7 @@ class SqliteStorage(Storage):
             )
         except aiosqlite.IntegrityError:
             raise ValueError(f"table {record.id} exists") from None
+        self._racks.begin(record.id, record.rack)
         self._remember(record)
 
     async def get_table(self, table_id: str) -> TableRecord | None:
@@ -514,6 +527,7 @@ class SqliteStorage(Storage):
             was = (record.version - 1, entry.shot_id)
             if not self._write(record, was, "", logged=doc, last_shot=last_shot):
                 return False
+            self._racks.logged(record.id, without_motion(entry))
         self._remember(record)
         return True
 
@@ -541,14 +555,23 @@ class SqliteStorage(Storage):
         return [load(InputEntry, row[0]) for row in rows]
 
     async def rack_inputs(self, table_id: str, rack: int) -> list[InputEntry]:
-        rows = await self._rows(  # (SQLite's JSON functions copy numbers as written)
-            "SELECT json_replace(doc, '$.outcome.trajectory', NULL) FROM inputs "
-            "WHERE table_id = ? AND rack = ? "
-            "AND seq IS NOT NULL ORDER BY seq",
-            table_id,
-            rack,
-        )
-        return [load(InputEntry, row[0]) for row in rows]
+        """From memory where the rack under way is kept (server/storage/rack_log); else read
+        from the log, and kept from then on if it is the table's rack under way (under the
+        lock: no input is logged between the read and keeping it)."""
+        kept = self._racks.get(table_id, rack)
+        if kept is not None:
+            return kept
+        async with self._lock:
+            rows = await self._db.execute_fetchall(  # (JSON functions copy numbers as written)
+                "SELECT json_replace(doc, '$.outcome.trajectory', NULL) FROM inputs "
+                "WHERE table_id = ? AND rack = ? AND seq IS NOT NULL ORDER BY seq",
+                (table_id, rack),
+            )
+            entries = [load(InputEntry, row[0]) for row in rows]
+            known = self._tables.get(table_id)
+            if known is not None and known.rack == rack and not known.finished:
+                self._racks.begin(table_id, rack, entries)
+        return entries
 
     async def expire_tables(self, now: float, limit: int) -> list[str]:
         async with self._transaction() as db:
@@ -564,6 +587,7 @@ class SqliteStorage(Storage):
                 await db.executemany(sql, [(table_id,) for table_id in ids])
             for table_id in ids:
                 self._tables.pop(table_id, None)
+                self._racks.forget(table_id)
         return ids
 
     async def heartbeat(self, table_id: str, seat: int, now: float) -> None:

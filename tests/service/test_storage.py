@@ -26,6 +26,7 @@ from server.game.tables import (
 from server.protocol.models import BreakEntry, Ending, PlayerInfo, Source, Status
 from server.storage import AcceptResult, RateResult, Storage
 from server.storage import sqlite as sqlite_storage
+from server.storage.rack_log import RackLog
 from server.storage.records import dump
 from server.storage.sqlite import SCHEMA, SqliteStorage
 from tests.service.conftest import ADA, BOB, OpenStorage, a_table
@@ -302,6 +303,67 @@ async def test_rack_inputs_are_one_racks_inputs_in_order(storage: Storage) -> No
     }
     assert await storage.rack_inputs(record.id, 4) == []
     assert len(await storage.inputs(record.id)) == 6
+
+
+async def test_a_racks_inputs_read_the_same_by_the_storage_that_played_them_and_after_a_restart(
+    open_storage: OpenStorage,
+) -> None:
+    """Invariant 5 through a storage's own memory of the rack under way (SQLite keeps it,
+    server/storage/rack_log.py): racks ended by a shot and by a change of the table, one
+    begun on a table read back after a restart, each rack read before and after its inputs."""
+
+    async def play(storage: Storage, record: TableRecord, shot_id: str, **after: object):
+        accepted = pending(record, shot_id, record.rack)
+        assert (await storage.accept(accepted)).result is AcceptResult.ACCEPTED
+        entry = accepted.pending.model_copy(update={"outcome": None})
+        moved = bump(record, **after)
+        assert await storage.resolve(moved, entry)
+        return moved
+
+    async def racks(storage: Storage, record: TableRecord) -> dict[int, list[str]]:
+        return {
+            rack: [e.shot_id for e in await storage.rack_inputs(record.id, rack)]
+            for rack in range(1, record.rack + 2)
+        }
+
+    first = await open_storage()
+    record = join(a_table(), BOB)
+    await first.create_table(record)
+    assert await racks(first, record) == {1: [], 2: []}
+    record = await play(first, record, "a1")
+    record = await play(first, record, "a2", rack=2)  # the rack's last shot racks the next
+    assert await racks(first, record) == {1: ["a1", "a2"], 2: [], 3: []}
+    record = await play(first, record, "b1")
+    record = bump(record, rack=3)  # a change of the table racks again (practice's rerack)
+    assert await first.update(record)
+    record = await play(first, record, "c1")
+    seen = await racks(first, record)
+    assert seen == {1: ["a1", "a2"], 2: ["b1"], 3: ["c1"], 4: []}
+    await first.close()
+    second = await open_storage()
+    record = await second.get_table(record.id)
+    assert await racks(second, record) == seen
+    record = await play(second, record, "c2")
+    record = await play(second, await second.get_table(record.id), "c3", rack=4)
+    record = await play(second, record, "d1")
+    seen = {1: ["a1", "a2"], 2: ["b1"], 3: ["c1", "c2", "c3"], 4: ["d1"], 5: []}
+    assert await racks(second, record) == seen
+    await second.close()
+    assert await racks(await open_storage(), record) == seen
+
+
+def test_a_rack_log_keeps_a_bounded_number_of_inputs_oldest_tables_first() -> None:
+    entry = pending(a_table(), "shot").pending
+    log = RackLog(limit=5)
+    log.begin("t1", 1, [entry] * 3)
+    log.begin("t2", 1)
+    log.logged("t2", entry)
+    assert log.get("t1", 1) == [entry] * 3 and log.get("t2", 2) is None
+    log.logged("t2", entry)
+    log.logged("t2", entry)  # six in all: t1 was read before t2, so it goes first
+    assert log.get("t1", 1) is None and log.get("t2", 1) == [entry] * 3
+    log.logged("t2", entry.model_copy(update={"rack": 2}))  # not the rack kept: nothing kept
+    assert log.get("t2", 1) is None and log.get("t2", 2) is None
 
 
 @pytest.mark.parametrize("encoded", [False, True], ids=["model", "outcome_json"])
