@@ -33,7 +33,9 @@ alone (the pending input lives in the table's document until it is played, and t
 table holds the played ones with their outcomes); so is playing it, the input logged by a
 trigger of the table's own UPDATE (`LOG_PLAYED`). And since one process owns the file, the last
 committed record of the `CACHED_TABLES` most recently used tables is kept in memory
-(write-through, after each commit): a table actor reads its table before every job.
+(write-through, after each commit): a table actor reads its table before every job. So are
+the inputs logged in each table's rack under way (server/storage/rack_log.py), which a rack's
+end reads back.
 """
 
 from __future__ import annotations
