@@ -288,7 +288,7 @@ class TableActor:
         if ack is not None:
             _answer(ack, IntentAccepted(version=answer.version + 1))
         await self._resolve(answer)
-        self.tell(commands.BotMove())
+        self._let_bot_act(answer)
         return None
 
     async def _admit(self, record: TableRecord, move: Move) -> TableRecord | IntentDuplicate | None:
@@ -296,7 +296,7 @@ class TableActor:
         if another replica changed the table meanwhile. ServiceError for a refusal."""
         storage = self._context.storage
         try:
-            entry = validate(record, move)
+            entry = validate(record, move, self._context.replica)
             if move.on_time and record.deadline is not None and time.time() > record.deadline:
                 raise ServiceError(ErrorCode.WRONG_PHASE, "the shot clock ran out")
         except ServiceError:
@@ -306,13 +306,13 @@ class TableActor:
             if seen is not None:
                 return duplicate(seen)
             raise
-        entry = entry.model_copy(update={"replica": self._context.replica})
-        result = await storage.accept(record.model_copy(update={"pending": entry}))
+        accepted = record.model_copy(update={"pending": entry})
+        result = await storage.accept(accepted)
         if result.result is AcceptResult.DUPLICATE:
             return duplicate(result.entry)
         if result.result is AcceptResult.CONFLICT:
             return None
-        return record.model_copy(update={"pending": entry})
+        return accepted
 
     async def _resolve(self, record: TableRecord) -> None:
         """Play the pending input of `record`, store its outcome, then publish it."""
@@ -407,7 +407,7 @@ class TableActor:
         message = TableMessage(version=after.version, view=tables.view(after, seen))
         await self._context.publisher.publish(after.channel, message)
         await self._status_changed(record, after)
-        self.tell(commands.BotMove())
+        self._let_bot_act(after)
         return after
 
     async def _claim(self, player: PlayerInfo) -> TableRecord:
@@ -529,6 +529,12 @@ class TableActor:
         shot_id = ids.server_input_id(ids.BOT_PREFIX, record.version)
         await self._play_quietly(Move(occupant, record.version, shot_id, action))
 
+    def _let_bot_act(self, record: TableRecord) -> None:
+        """After a change of a table with a bot seated, let the bot act if it is its turn (a
+        table without one skips the job: its next command settles anything left pending)."""
+        if tables.has_bot(record):
+            self.tell(commands.BotMove())
+
     async def _play_quietly(self, move: Move) -> None:
         """Play an input the server makes; a refusal is a bug, so it is logged."""
         try:
@@ -562,8 +568,9 @@ async def rate(
     return None
 
 
-def validate(record: TableRecord, move: Move) -> InputEntry:
-    """The entry to store for `move`; ServiceError if it may not be played."""
+def validate(record: TableRecord, move: Move, replica: str = "") -> InputEntry:
+    """The entry to store for `move`, accepted by `replica`; ServiceError if it may not be
+    played."""
     seat = tables.seated(record, move.player)
     acting = tables.acting_seat(record)
     if acting is None:
@@ -592,6 +599,7 @@ def validate(record: TableRecord, move: Move) -> InputEntry:
         version=record.version,
         rack=record.rack,
         accepted_at=time.time(),
+        replica=replica,
     )
 
 

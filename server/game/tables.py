@@ -139,6 +139,11 @@ def is_bot(player: PlayerInfo) -> bool:
     return player.id.startswith("bot:")
 
 
+def has_bot(record: TableRecord) -> bool:
+    """Whether a bot holds a seat of the table."""
+    return any(seat is not None and is_bot(seat) for seat in record.seats)
+
+
 def chooser_of(bot: PlayerInfo) -> str:
     """The chooser name (`rules.bot.chooser`) of a bot player made by `bot_player`."""
     return bot.id.removeprefix("bot:")

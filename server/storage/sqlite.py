@@ -435,20 +435,22 @@ class SqliteStorage(Storage):
 
     async def get_table(self, table_id: str) -> TableRecord | None:
         record = self._tables.get(table_id)
-        if record is None:
-            row = await self._keyed(
-                "SELECT t.doc, json_replace(t.outcome, '$.trajectory', NULL), "
-                "json_replace(i.doc, '$.outcome.trajectory', NULL) FROM tables t "
-                "LEFT JOIN inputs i ON i.table_id = t.id AND i.shot_id = t.last_shot "
-                "WHERE t.id = ?",
-                table_id,
-            )
-            if row is None:
-                return None
-            record = load(TableRecord, row[0])
-            last = _last_outcome(row[1], row[2])
-            if last is not None:
-                record = record.model_copy(update={"last_outcome": last})
+        if record is not None:
+            self._tables.move_to_end(table_id)
+            return record
+        row = await self._keyed(
+            "SELECT t.doc, json_replace(t.outcome, '$.trajectory', NULL), "
+            "json_replace(i.doc, '$.outcome.trajectory', NULL) FROM tables t "
+            "LEFT JOIN inputs i ON i.table_id = t.id AND i.shot_id = t.last_shot "
+            "WHERE t.id = ?",
+            table_id,
+        )
+        if row is None:
+            return None
+        record = load(TableRecord, row[0])
+        last = _last_outcome(row[1], row[2])
+        if last is not None:
+            record = record.model_copy(update={"last_outcome": last})
         self._remember(record)
         return record
 
