@@ -352,6 +352,27 @@ async def test_a_racks_inputs_read_the_same_by_the_storage_that_played_them_and_
     assert await racks(await open_storage(), record) == seen
 
 
+async def test_sqlite_accepts_into_the_stored_document_only_what_is_new(tmp_path: Path) -> None:
+    """SQLite's accept of the stored record with its pending input sets the input into the
+    stored document; an accept that changes more stores the whole record. Both read back
+    after a restart as the record accepted, and play on."""
+    first = await SqliteStorage.open(tmp_path / "game.sqlite")
+    same, changed = join(a_table("1" * 20), BOB), join(a_table("2" * 20), BOB)
+    for record in (same, changed):
+        await first.create_table(record)
+    just_the_input = pending(same, "shot-0001")
+    more = pending(changed, "shot-0001").model_copy(update={"deadline": 1e10})
+    for record in (just_the_input, more):
+        assert (await first.accept(record)).result is AcceptResult.ACCEPTED
+    await first.close()
+    again = await SqliteStorage.open(tmp_path / "game.sqlite")
+    for record in (just_the_input, more):
+        assert await again.get_table(record.id) == record
+        assert await again.resolve(bump(record, pending=None), record.pending)
+        assert [e.shot_id for e in await again.rack_inputs(record.id, 1)] == ["shot-0001"]
+    await again.close()
+
+
 def test_a_rack_log_keeps_a_bounded_number_of_inputs_oldest_tables_first() -> None:
     entry = pending(a_table(), "shot").pending
     log = RackLog(limit=5)
