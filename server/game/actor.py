@@ -582,7 +582,7 @@ def validate(record: TableRecord, move: Move, replica: str = "") -> InputEntry:
             ErrorCode.STALE_VERSION,
             f"the table is at version {record.version}, not {move.version}: resync",
         )
-    options = refereeing.constraints(record.state).choices
+    options = refereeing.choices(record.state)
     if bool(options) != isinstance(move.input, refereeing.Choice):
         wanted = "a choice of " + " / ".join(options) if options else "a shot"
         raise ServiceError(ErrorCode.WRONG_PHASE, f"send {wanted}")

@@ -72,6 +72,7 @@ __all__ = [
     "bot_input",
     "check",
     "checked_position",
+    "choices",
     "constraints",
     "new_rack",
     "next_breaker",
@@ -221,6 +222,12 @@ class Next:
     push_out: bool
     call: tuple[str, ...]
     nominate: tuple[str, ...]
+
+
+def choices(state: State) -> tuple[Option, ...]:
+    """`constraints(state).choices` without working out the rest (the targets, the cue
+    ball, the options of a shot): the table actor asks it of every input it checks."""
+    return state.pending
 
 
 def constraints(state: State) -> Next:

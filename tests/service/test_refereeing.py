@@ -79,3 +79,17 @@ def test_next_lists_the_nominations_and_the_choices_of_snooker():
     chosen = next_of(state.evolve(pending=("play_on", "play_again", "replace"), retake=state))
     assert chosen.kinds == [InputKind.CHOICE] and chosen.shot is None
     assert chosen.options == ["play_on", "play_again", "replace"]
+
+
+@pytest.mark.parametrize("game", list(GameName))
+def test_the_choices_to_check_an_input_by_are_those_constraints_give(game):
+    """`choices` (asked of every input checked) gives `constraints(state).choices` in every
+    state a rack reaches, choices offered or not."""
+    state = refereeing.new_rack(game, 5, 0)
+    for _ in range(12):
+        assert refereeing.choices(state) == refereeing.constraints(state).choices
+        if state.over:
+            break
+        state = refereeing.referee(state, pick(state)).state
+    offered = state.evolve(pending=("play_on",))
+    assert refereeing.choices(offered) == refereeing.constraints(offered).choices == ("play_on",)
