@@ -40,7 +40,7 @@ from pathlib import Path
 
 import aiohttp
 from callgrind import Callgrind, available
-from match_load import SECRET, Pace, Samples, free_port, play_table, spectate, wait_ready
+from match_load import SECRET, Pace, Samples, free_port, play_rack, wait_ready
 
 from server.client.api_client import GameClient
 
@@ -64,11 +64,10 @@ class Players:
 
     async def play(self, racks: int, samples: Samples) -> None:
         for _ in range(racks):
-            host, guest = self.players[self.racks % 2], self.players[1 - self.racks % 2]
+            watcher = await play_rack(
+                self.players, self.spectator, self.racks, samples, Pace(None), math.inf
+            )
             self.racks += 1
-            view = await guest.join((await host.create("nineball")).id)
-            watcher = asyncio.create_task(spectate(self.spectator, view, samples, math.inf))
-            await play_table(self.players, view, samples, Pace(None), math.inf)
             await asyncio.wait_for(watcher, WATCH_TIMEOUT_S)
 
 

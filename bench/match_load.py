@@ -163,12 +163,21 @@ async def match_loop(base: str, session: aiohttp.ClientSession, n: int, samples:
         await player.register(f"load{n}s{seat}r{os.getpid() % 1000}t{int(stop) % 100000}")
     rack = 0
     while time.perf_counter() < stop:
-        host, guest = players[rack % 2], players[1 - rack % 2]  # (tables are rate-limited)
+        watcher = await play_rack(players, spectator, rack, samples, pace, stop)
         rack += 1
-        view = await guest.join((await host.create("nineball")).id)
-        watcher = asyncio.create_task(spectate(spectator, view, samples, stop))
-        await play_table(players, view, samples, pace, stop)
         watcher.cancel()
+
+
+async def play_rack(players: list[GameClient], spectator: GameClient, rack: int,
+                    samples: Samples, pace: Pace, stop: float) -> asyncio.Task[None]:  # fmt: skip
+    """One table, created by one player and joined by the other (turn about by `rack`:
+    tables are rate-limited per creator), played until its rack ends or time is up; the
+    spectator's task, which follows it, is returned."""
+    host, guest = players[rack % 2], players[1 - rack % 2]
+    view = await guest.join((await host.create("nineball")).id)
+    watcher = asyncio.create_task(spectate(spectator, view, samples, stop))
+    await play_table(players, view, samples, pace, stop)
+    return watcher
 
 
 async def relay_probe(base: str, session: aiohttp.ClientSession, samples: Samples,

@@ -568,7 +568,7 @@ async def rate(
     return None
 
 
-def validate(record: TableRecord, move: Move, replica: str = "") -> InputEntry:
+def validate(record: TableRecord, move: Move, replica: str) -> InputEntry:
     """The entry to store for `move`, accepted by `replica`; ServiceError if it may not be
     played."""
     seat = tables.seated(record, move.player)
