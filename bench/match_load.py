@@ -38,10 +38,12 @@ import aiohttp
 
 from server.client.api_client import GameClient, Refused
 from server.game import refereeing
+from server.protocol.errors import ErrorCode
 from server.protocol.models import OutcomeMessage, Status, TableView
 from server.relay.auth import TokenAuthority
 
 SECRET = "match-load-bench-secret-0123456789"
+CREATE_WAIT_S = 0.5  # a host refused a new table for its rate waits this long, then asks again
 
 
 @dataclass
@@ -168,13 +170,26 @@ async def match_loop(base: str, session: aiohttp.ClientSession, n: int, samples:
         watcher.cancel()
 
 
+async def new_table(host: GameClient) -> TableView:
+    """A nine-ball table created by `host`. Creating is rate-limited per player (1 a second
+    after a burst of 20), and short racks run a pair of players past it (`--quick`'s four
+    tables did within seconds): a refused host waits `CREATE_WAIT_S` and asks again."""
+    while True:
+        try:
+            return await host.create("nineball")
+        except Refused as refused:
+            if refused.code != ErrorCode.RATE_LIMITED.value:
+                raise
+            await asyncio.sleep(CREATE_WAIT_S)
+
+
 async def play_rack(players: list[GameClient], spectator: GameClient, rack: int,
                     samples: Samples, pace: Pace, stop: float) -> asyncio.Task[None]:  # fmt: skip
     """One table, created by one player and joined by the other (turn about by `rack`:
     tables are rate-limited per creator), played until its rack ends or time is up; the
     spectator's task, which follows it, is returned."""
     host, guest = players[rack % 2], players[1 - rack % 2]
-    view = await guest.join((await host.create("nineball")).id)
+    view = await guest.join((await new_table(host)).id)
     watcher = asyncio.create_task(spectate(spectator, view, samples, stop))
     await play_table(players, view, samples, pace, stop)
     return watcher
