@@ -87,6 +87,7 @@ from server.protocol.models import (
     Mode,
     PlayerInfo,
     PresenceMessage,
+    ReplayView,
     Status,
     TableMessage,
 )
@@ -339,8 +340,15 @@ class TableActor:
     ) -> str:
         """Store the finished rack's replay and breaks; its replay id."""
         played = await self._rack_played(record) + [(last.input, result.state)]
-        replay = await self._context.breaks.rack_played(record, played)
-        return replay.id
+        return (await self._archive(record, played)).id
+
+    async def _archive(
+        self, record: TableRecord, played: list[tuple[refereeing.PlayerInput, State]]
+    ) -> ReplayView:
+        """Store the replay and breaks of the table's current rack, of these inputs played
+        (at least one), archived by the shot workers (`refereeing.rack_archive`)."""
+        archive = await self._context.pool.rack_archive(record.setup, played)
+        return await self._context.breaks.rack_played(record, archive)
 
     async def _rack_played(self, record: TableRecord) -> list[tuple[refereeing.PlayerInput, State]]:
         """Each input of the table's current rack played so far (void ones left out), with the
@@ -427,7 +435,7 @@ class TableActor:
             played = await self._rack_played(before)
             key = (before.rack, len(played))
             if key not in archived:
-                replay = await self._context.breaks.rack_played(before, played) if played else None
+                replay = await self._archive(before, played) if played else None
                 archived[key] = replay.id if replay is not None else None
             if archived[key] is None:
                 return after

@@ -49,11 +49,10 @@ from collections import OrderedDict
 
 from pydantic import ValidationError
 
-from server.game import refereeing, tables, visits
+from server.game import refereeing, tables
 from server.game.budget import WorkBudget
 from server.game.identity import name_key
 from server.game.publisher import Publisher
-from server.game.refereeing import PlayerInput, State
 from server.game.replays import rack_replay, record_refused, replay_url
 from server.game.tables import TableRecord
 from server.game.workers import WorkerPool
@@ -140,22 +139,16 @@ class Breaks:
             self._floor[game] = top[-1].score
         await self._publisher.publish(LEADERBOARD, LeaderboardMessage(game=game, breaks=top))
 
-    async def rack_played(
-        self,
-        record: TableRecord,
-        played: list[tuple[PlayerInput, State]],
-    ) -> ReplayView:
+    async def rack_played(self, record: TableRecord, archive: refereeing.RackArchive) -> ReplayView:
         """Store the replay of the table's current rack and its players' best breaks (each
         break once: the same visit from the same position, played or claimed before, is not
         entered again). The rack may be unfinished (a match ended off the table): its record
         then replays to the position it stopped at, with no winner.
 
-        played: each input of the rack that was played (void ones left out, at least one),
-        with the state it led to (the last one's `best` is each player's best break so far)."""
-        setup = record.setup
-        game_record = refereeing.rack_record(setup, played)
-        replay, best = rack_replay(record, game_record, played[-1][1])
-        keys = visits.break_keys(record.game, refereeing.start(setup), played)
+        archive: the rack's record, best breaks and their keys (`refereeing.rack_archive`, of
+        at least one input played, made by the table's worker pool)."""
+        replay = rack_replay(record, archive.record, archive.best)
+        best, keys = archive.best, archive.keys
         await self._storage.add_replay(replay)
         if not ranked(record.options, record.position):
             return replay

@@ -303,6 +303,26 @@ def rack_record(setup: Setup, played: list[tuple[PlayerInput, State]]) -> GameRe
 
 
 @dataclass(frozen=True, slots=True)
+class RackArchive:
+    """What a finished (or abandoned) rack is archived with: its game record, each player's
+    best break in it (the last state's `best`) and each best break's identity
+    (`server.game.visits`, None for a player who scored none)."""
+
+    record: GameRecord
+    best: tuple[int, int]
+    keys: tuple[str | None, str | None]
+
+
+def rack_archive(setup: Setup, played: list[tuple[PlayerInput, State]]) -> RackArchive:
+    """The archive of a rack from each input played and the state it led to (run in a worker
+    process: the record's chain hashes every state and the break keys every visit's inputs,
+    some 40 us an input, a nine-ball rack's half a millisecond and a long snooker frame's
+    several, which on the event loop would hold up every other table meanwhile)."""
+    keys = visits.break_keys(setup.game, start(setup), played)
+    return RackArchive(rack_record(setup, played), played[-1][1].best, keys)
+
+
+@dataclass(frozen=True, slots=True)
 class Verified:
     """A replayed record: its game, each player's best break (the referee's `State.best`:
     snooker's break, three-cushion's run, pool's balls pocketed in one visit without a foul),

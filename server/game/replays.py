@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 
 from server.game import refereeing
 from server.game.budget import WorkBudget
-from server.game.refereeing import GameRecord, State
+from server.game.refereeing import GameRecord
 from server.game.tables import TableRecord
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import REPLAY_SHOTS_PAGE, new_replay_id
@@ -59,15 +59,9 @@ def replay_url(replay_id: str) -> str:
     return f"/replay/{replay_id}"
 
 
-def rack_replay(
-    record: TableRecord,
-    game_record: GameRecord,
-    final: State,
-) -> tuple[ReplayView, tuple[int, int]]:
+def rack_replay(record: TableRecord, game_record: GameRecord, best: tuple[int, int]) -> ReplayView:
     """The replay of a rack, finished or not (`game_record`: its inputs as the rules record
-    them, from `refereeing.rack_record`), and each seat's best break in it (the referee's
-    `final.best`)."""
-    best = final.best
+    them, from `refereeing.rack_archive`), with each seat's `best` break in it."""
     replay_id = new_replay_id()
     view = ReplayView(
         id=replay_id,
@@ -80,7 +74,7 @@ def rack_replay(
         record=game_record,
         created=time.time(),
     )
-    return view, best
+    return view
 
 
 def record_refused(error: Exception) -> ServiceError:

@@ -1,7 +1,9 @@
 """The pool of worker processes that simulate and judge shots, off the event loop.
 
 A break takes 10-20 ms of physics; on the event loop that would stall the relay and every other
-table. The table actors hand each input to this pool and await the result.
+table. The table actors hand each input to this pool and await the result, and so each rack's
+archive (its record's chain of hashed states and its best breaks' keys: half a millisecond a
+nine-ball rack, several for a long snooker frame).
 
 Each worker is a process with one Unix socket to the server, which the event loop reads and
 writes itself (asyncio streams): a call is one pickled `(function, args)` frame out and one
@@ -176,6 +178,11 @@ class WorkerPool:
 
     async def referee(self, state: State, action: PlayerInput) -> refereeing.Refereed:
         return await self._run(refereeing.referee_for_table, state, action)
+
+    async def rack_archive(
+        self, setup: refereeing.Setup, played: list[tuple[PlayerInput, State]]
+    ) -> refereeing.RackArchive:
+        return await self._run(refereeing.rack_archive, setup, played)
 
     async def bot_input(self, state: State, bot: str) -> PlayerInput:
         return await self._run(refereeing.bot_input, state, bot)

@@ -7,9 +7,10 @@ import pytest
 from rules.pickers import pick
 from rules.pool import POCKETS
 from rules.record import replay
-from server.game import refereeing, tables
+from server.game import refereeing, tables, visits
 from server.game.refereeing import GameName
 from server.game.tables import new_table
+from server.game.workers import WorkerPool
 from server.protocol.models import Constraints, InputKind, Mode, TableCreate
 from tests.service.conftest import ADA
 
@@ -33,6 +34,29 @@ def test_a_racks_record_replays_whoever_broke(game, breaker):
     again = replay(record)
     assert [step.state for step in again.steps] == [s for _, s in played]
     assert again.steps[0].decision.player == breaker
+
+
+async def test_a_racks_archive_made_by_a_worker_is_its_record_best_breaks_and_their_keys():
+    """The archive a table's worker makes of a snooker rack (breaks of more than one pot)
+    holds the record that replays to the rack's states, the last state's best breaks and the
+    keys of the visits that made them; the same as made here (pickled both ways, unchanged)."""
+    setup = refereeing.rack_setup(GameName.SNOOKER, refereeing.DEFAULT_OPTIONS, 5, 0)
+    state, played = refereeing.start(setup), []
+    while len(played) < 12 or max(state.best) < 2:
+        action = pick(state)
+        state = refereeing.referee(state, action).state
+        played.append((action, state))
+    pool = WorkerPool(1)
+    try:
+        archive = await pool.rack_archive(setup, played)
+    finally:
+        pool.close()
+    assert archive == refereeing.rack_archive(setup, played)
+    assert [step.state for step in replay(archive.record).steps] == [s for _, s in played]
+    assert archive.best == state.best
+    keys = visits.break_keys(GameName.SNOOKER, refereeing.start(setup), played)
+    assert archive.keys == keys
+    assert [key is None for key in keys] == [best == 0 for best in state.best]
 
 
 def next_of(state: refereeing.State) -> Constraints:
