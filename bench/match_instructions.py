@@ -2,7 +2,7 @@
 does not sway.
 
     .venv/bin/python bench/match_instructions.py [--tables 8] [--racks 5] [--workers 2]
-                                                 [--keep FILE]
+                                                 [--race-to 1] [--keep FILE]
 
 bench/match_load.py measures the server's CPU time per refereed shot, and on a shared 2-core
 machine the same code's figure moves by a fifth between runs (the workers' CPU for the same
@@ -23,6 +23,11 @@ refereed in it. The tables' seeds are the server's own, so each run plays other 
 figure moves with the racks' lengths and breaks (a rack's end and its break cost more than
 its other shots); `--racks` more narrows it. `--keep FILE` keeps the window's callgrind
 dump, for `callgrind_annotate FILE` (the interpreter's and the libraries' own functions).
+
+`--race-to N` makes each of those tables a match of a race to N racks (the warm-up stays one
+rack): a match's own cost (creating and joining its table, its subscriptions, rating it and
+recording its result) is then spread over N times as many shots, which, set beside the
+default's figure, splits a shot's instructions into the match's share and the shot's own.
 """
 
 from __future__ import annotations
@@ -62,17 +67,17 @@ class Players:
         for seat, player in enumerate(self.players):
             await player.register(f"count{self.n}s{seat}r{os.getpid() % 1000}")
 
-    async def play(self, racks: int, samples: Samples) -> None:
+    async def play(self, racks: int, samples: Samples, race_to: int = 1) -> None:
         for _ in range(racks):
             watcher = await play_rack(
-                self.players, self.spectator, self.racks, samples, Pace(None), math.inf
+                self.players, self.spectator, self.racks, samples, Pace(None), math.inf, race_to
             )
             self.racks += 1
             await asyncio.wait_for(watcher, WATCH_TIMEOUT_S)
 
 
 async def count(
-    tables: int, racks: int, workers: int, keep: str | None
+    tables: int, racks: int, workers: int, keep: str | None, race_to: int = 1
 ) -> tuple[int, float, Samples]:
     """The window's instructions, its idle background and the shots refereed in it (the
     window's dump copied to `keep`)."""
@@ -96,11 +101,11 @@ async def count(
                 server.zero()
                 await asyncio.sleep(IDLE_SECONDS)
                 idle_rate = server.dump() / IDLE_SECONDS
-                print(f"  counting {tables} x {racks} racks", file=sys.stderr)
+                print(f"  counting {tables} x {racks} matches", file=sys.stderr)
                 samples = Samples()
                 server.zero()
                 start = time.monotonic()
-                await asyncio.gather(*(p.play(racks, samples) for p in everyone))
+                await asyncio.gather(*(p.play(racks, samples, race_to) for p in everyone))
                 instructions = server.dump()
                 background = idle_rate * (time.monotonic() - start)
                 if keep is not None:
@@ -113,7 +118,10 @@ async def count(
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tables", type=int, default=8, help="tables played at once")
-    parser.add_argument("--racks", type=int, default=5, help="racks counted per table")
+    parser.add_argument(
+        "--racks", type=int, default=5, help="matches (at a race to one, racks) counted per table"
+    )
+    parser.add_argument("--race-to", type=int, default=1, help="racks won to win a match")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--keep", metavar="FILE", help="keep the window's callgrind dump")
     args = parser.parse_args()
@@ -121,18 +129,21 @@ def main() -> int:
         print("valgrind not found: apt-get install -y valgrind", file=sys.stderr)
         return 1
     instructions, background, samples = asyncio.run(
-        count(args.tables, args.racks, args.workers, args.keep)
+        count(args.tables, args.racks, args.workers, args.keep, args.race_to)
     )
-    shots, racks = samples.shots, args.tables * args.racks
+    shots, matches = samples.shots, args.tables * args.racks
     per_shot = (instructions - background) / max(shots, 1)
-    print(f"{args.tables} tables x {args.racks} nine-ball racks, {args.workers} workers")
     print(
-        f"{'racks':>6} {'shots':>6} {'instructions/shot':>18} {'background/shot':>16} "
+        f"{args.tables} tables x {args.racks} nine-ball matches, a race to {args.race_to}, "
+        f"{args.workers} workers"
+    )
+    print(
+        f"{'matches':>7} {'shots':>6} {'instructions/shot':>18} {'background/shot':>16} "
         f"{'player p50 ms':>14}"
     )
     median = statistics.median(samples.player_ms) if samples.player_ms else math.nan
     print(
-        f"{racks:>6} {shots:>6} {per_shot:>18,.0f} {background / max(shots, 1):>16,.0f} "
+        f"{matches:>7} {shots:>6} {per_shot:>18,.0f} {background / max(shots, 1):>16,.0f} "
         f"{median:>14.0f}"
     )
     return 0

@@ -170,13 +170,14 @@ async def match_loop(base: str, session: aiohttp.ClientSession, n: int, samples:
         watcher.cancel()
 
 
-async def new_table(host: GameClient) -> TableView:
-    """A nine-ball table created by `host`. Creating is rate-limited per player (1 a second
-    after a burst of 20), and short racks run a pair of players past it (`--quick`'s four
-    tables did within seconds): a refused host waits `CREATE_WAIT_S` and asks again."""
+async def new_table(host: GameClient, race_to: int = 1) -> TableView:
+    """A nine-ball table created by `host`, a match of a race to `race_to` racks. Creating is
+    rate-limited per player (1 a second after a burst of 20), and short racks run a pair of
+    players past it (`--quick`'s four tables did within seconds): a refused host waits
+    `CREATE_WAIT_S` and asks again."""
     while True:
         try:
-            return await host.create("nineball")
+            return await host.create("nineball", race_to=race_to)
         except Refused as refused:
             if refused.code != ErrorCode.RATE_LIMITED.value:
                 raise
@@ -184,12 +185,14 @@ async def new_table(host: GameClient) -> TableView:
 
 
 async def play_rack(players: list[GameClient], spectator: GameClient, rack: int,
-                    samples: Samples, pace: Pace, stop: float) -> asyncio.Task[None]:  # fmt: skip
+                    samples: Samples, pace: Pace, stop: float,
+                    race_to: int = 1) -> asyncio.Task[None]:  # fmt: skip
     """One table, created by one player and joined by the other (turn about by `rack`:
-    tables are rate-limited per creator), played until its rack ends or time is up; the
-    spectator's task, which follows it, is returned."""
+    tables are rate-limited per creator), played until its match (`race_to` racks won; one
+    rack by default) ends or time is up; the spectator's task, which follows it, is
+    returned."""
     host, guest = players[rack % 2], players[1 - rack % 2]
-    view = await guest.join((await new_table(host)).id)
+    view = await guest.join((await new_table(host, race_to)).id)
     watcher = asyncio.create_task(spectate(spectator, view, samples, stop))
     await play_table(players, view, samples, pace, stop)
     return watcher
