@@ -20,7 +20,6 @@ is checked again. A refused token is never kept, so forged ones cannot fill the 
 
 from __future__ import annotations
 
-import functools
 import time
 from collections.abc import Callable
 
@@ -63,7 +62,7 @@ class TokenAuthority:
         self._secret = secret
         self.public_prefix = public_prefix
         self._clock = clock
-        self._genuine = functools.lru_cache(maxsize=TOKENS_KEPT)(self._claims)
+        self._known: dict[str, TokenClaims] = {}  # genuine tokens' claims, oldest first
 
     def issue(
         self,
@@ -92,7 +91,12 @@ class TokenAuthority:
             raise AuthError(401, "publishing needs a token (Authorization: Bearer or ?token=)")
         if not token.isascii():  # a token is ASCII; PyJWT would fail to encode surrogates
             raise AuthError(401, "token is malformed")
-        claims = self._genuine(token)
+        claims = self._known.get(token)
+        if claims is None:
+            claims = self._claims(token)
+            if len(self._known) >= TOKENS_KEPT:
+                del self._known[next(iter(self._known))]
+            self._known[token] = claims
         if claims.exp < self._clock():
             raise AuthError(401, "token has expired")
         return claims

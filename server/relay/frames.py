@@ -18,7 +18,7 @@ from functools import lru_cache
 
 from aiohttp import WSMsgType
 
-from server.relay.messages import CHANNEL_INFO, ChannelClosed, ChannelInfo, Gap
+from server.relay.messages import CHANNEL_INFO, ChannelClosed, ChannelInfo, Gap, StoredMessage
 from server.relay.payloads import MSGPACK
 
 _LINE_END = re.compile(r"\r\n|\r|\n")  # what the EventSource specification counts as a line end
@@ -79,13 +79,23 @@ def message_opcode(content_type: str) -> WSMsgType:
     return WSMsgType.BINARY if content_type == MSGPACK else WSMsgType.TEXT
 
 
-# A fan-out asks for the same frame once per subscriber, one message after another, so a small
-# cache hits for all but the first; it holds at most 64 frames of at most one message each.
-@lru_cache(maxsize=64)
-def message_frame(message_id: str, content_type: str, data: bytes, meta: bool) -> bytes:
+# A fan-out asks for the same frame once per subscriber, all in one go (`Backend._fan_out`):
+# the last message's frame, for meta subscribers and for plain ones, is kept to be reused.
+# (A cache keyed by the message's fields hashed its data: 25 KB for an eight-ball break's
+# outcome.)
+_last_frames: dict[bool, tuple[StoredMessage, bytes]] = {}
+
+
+def message_frame(message: StoredMessage, meta: bool) -> bytes:
     """The WebSocket frame of a message for single-channel subscribers, `ws+meta.nchan` or not."""
-    payload = meta_header(message_id, content_type) + data if meta else data
-    return websocket_frame(payload, message_opcode(content_type))
+    last = _last_frames.get(meta)
+    if last is not None and last[0] is message:
+        return last[1]
+    data = message.data
+    payload = meta_header(message.id, message.content_type) + data if meta else data
+    frame = websocket_frame(payload, message_opcode(message.content_type))
+    _last_frames[meta] = (message, frame)
+    return frame
 
 
 def notice(event: Gap | ChannelClosed) -> tuple[str, bytes]:

@@ -16,9 +16,9 @@ from aiohttp import web
 
 from server.relay.errors import RelayError
 from server.relay.frames import info_body, wants_json
-from server.relay.http import bearer_token, error_body, error_response, frame_message, relay_of
+from server.relay.http import bearer_token, error_body, error_response, frame_message
 from server.relay.messages import ChannelInfo
-from server.relay.relay import check_channel
+from server.relay.relay import Relay, check_channel
 
 
 def _info_response(request: web.Request, info: ChannelInfo, status: int) -> web.Response:
@@ -46,25 +46,22 @@ async def _read_limited(request: web.Request, limit: int) -> bytes:
     return b"".join(chunks)
 
 
-async def publish(request: web.Request) -> web.Response:
-    relay = relay_of(request)
+async def publish(relay: Relay, request: web.Request) -> web.Response:
     channel = request.match_info["channel"]
     try:
         relay.admit(channel, bearer_token(request))
         data = await _read_limited(request, relay.settings.max_message_bytes)
-        message = relay.validate(
-            request.headers.get("Content-Type"), data, request.headers.get("X-EventSource-Event")
-        )
-        published = await relay.backend.publish(
-            channel, message.data, message.content_type, message.event
-        )
+        event = request.headers.get("X-EventSource-Event")
+        canonical = relay.validate(request.headers.get("Content-Type"), data, event)
+        published = await relay.backend.publish(channel, data, canonical, event)
     except RelayError as error:
         return error_response(error)
     return _info_response(request, published.info, 201 if published.had_subscribers else 202)
 
 
-async def _websocket_publisher(request: web.Request, channel: str) -> web.WebSocketResponse:
-    relay = relay_of(request)
+async def _websocket_publisher(
+    relay: Relay, request: web.Request, channel: str
+) -> web.WebSocketResponse:
     token = bearer_token(request)
     as_json = wants_json(request.headers.get("Accept"))
     ws = web.WebSocketResponse(
@@ -83,14 +80,13 @@ async def _websocket_publisher(request: web.Request, channel: str) -> web.WebSoc
     return ws
 
 
-async def channel_info(request: web.Request) -> web.StreamResponse:
-    relay = relay_of(request)
+async def channel_info(relay: Relay, request: web.Request) -> web.StreamResponse:
     try:
         channel = check_channel(request.match_info["channel"])
     except RelayError as error:
         return error_response(error)
     if request.headers.get("Upgrade", "").lower() == "websocket":
-        return await _websocket_publisher(request, channel)
+        return await _websocket_publisher(relay, request, channel)
     try:
         info = await relay.backend.info(channel)
     except RelayError as error:
@@ -100,8 +96,7 @@ async def channel_info(request: web.Request) -> web.StreamResponse:
     return _info_response(request, info, 200)
 
 
-async def delete_channel(request: web.Request) -> web.Response:
-    relay = relay_of(request)
+async def delete_channel(relay: Relay, request: web.Request) -> web.Response:
     channel = request.match_info["channel"]
     try:
         relay.admit(channel, bearer_token(request))

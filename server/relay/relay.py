@@ -20,9 +20,8 @@ from server.relay.messages import Event, Published
 from server.relay.payloads import (
     ACCEPTED_TYPES,
     EventNameError,
-    IncomingMessage,
     PayloadError,
-    incoming,
+    check_message,
     media_type,
 )
 from server.relay.sendqueue import OutputBudget, SendQueue
@@ -88,22 +87,23 @@ class Relay:
             raise RelayError(429, f"publishing too fast: retry in {wait:.3f} s")
         return claims
 
-    def validate(
-        self, content_type: str | None, data: bytes, event: str | None = None
-    ) -> IncomingMessage:
-        """The message if its size, type and body are acceptable; RelayError otherwise."""
+    def validate(self, content_type: str | None, data: bytes, event: str | None = None) -> str:
+        """The canonical content type if the message's size, type, event name and body are
+        acceptable; RelayError otherwise."""
         limit = self.settings.max_message_bytes
         if len(data) > limit:
             raise RelayError(413, f"message of {len(data)} bytes exceeds the {limit}-byte limit")
-        if media_type(content_type) not in ACCEPTED_TYPES:
+        canonical = media_type(content_type)
+        if canonical not in ACCEPTED_TYPES:
             accepted = " or ".join(ACCEPTED_TYPES)
             raise RelayError(415, f"unsupported content type {content_type!r}: send {accepted}")
         try:
-            return incoming(content_type, data, event)
+            check_message(canonical, data, event)
         except EventNameError as error:
             raise RelayError(400, f"X-EventSource-Event: {error}") from None
         except PayloadError as error:
             raise RelayError(400, str(error)) from None
+        return canonical
 
     async def publish(
         self,
@@ -115,7 +115,5 @@ class Relay:
     ) -> Published:
         """Admit, validate and publish one message (503 `Unavailable` if the store is down)."""
         self.admit(channel, token)
-        message = self.validate(content_type, data, event)
-        return await self.backend.publish(
-            channel, message.data, message.content_type, message.event
-        )
+        canonical = self.validate(content_type, data, event)
+        return await self.backend.publish(channel, data, canonical, event)

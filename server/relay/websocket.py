@@ -94,7 +94,7 @@ class _Writer:
             return False
         if self.shared and type(event) is StoredMessage:  # one frame for every subscriber
             self.cursor.positions[event.channel] = event.id  # `advance`, without the text
-            frame = message_frame(event.id, event.content_type, event.data, self.meta)
+            frame = message_frame(event, self.meta)
         else:
             frame = websocket_frame(*self.payload(event))
         transport.write(frame)
