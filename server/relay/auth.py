@@ -13,9 +13,10 @@ are refused, as are forged, expired and malformed tokens.
 
 Checking a token's signature and claims was a fifth of the server's work per publish (PyJWT's
 decoding, HMAC, the claims' model), and a holder sends the same token with every publish. So
-the claims of the last `TOKENS_KEPT` genuine tokens are kept, keyed by the whole token: a
-token seen before costs a dictionary look-up, and only the expiry, which depends on the time,
-is checked again. A refused token is never kept, so forged ones cannot fill the cache.
+the claims of up to `TOKENS_KEPT` genuine tokens are kept, keyed by the whole token, the
+oldest forgotten first (a token forgotten while still in use is checked once more and kept
+anew): a token seen before costs a dictionary look-up, and only the expiry, which depends on
+the time, is checked again. A refused token is never kept, so forged ones cannot fill it.
 """
 
 from __future__ import annotations

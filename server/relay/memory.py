@@ -77,7 +77,7 @@ class MemoryBackend(Backend):
         state.messages.append((key, message_id, content_type, data, now, event))
         state.data_bytes += len(data)
         self._expire(state, now)
-        subscribers = len(self._local.get(channel, ()))  # `local_subscribers`, inlined
+        subscribers = self.local_subscribers(channel)
         self._fan_out(channel, message)
         info = self._info(state, now, subscribers, message_id)
         return Published(message, info, subscribers > 0)

@@ -155,7 +155,4 @@ def check_message(canonical: str, data: bytes, event: str | None = None) -> None
     holds cost a fifth of it."""
     if event is not None and _EVENT_NAME.fullmatch(event) is None:
         raise EventNameError(f"event names are 1 to 64 of A-Z a-z 0-9 _ . : -, not {event!r}")
-    if canonical == JSON:
-        _decode_json(data)
-    else:
-        decode(data, canonical)
+    decode(data, canonical)
