@@ -30,8 +30,11 @@ Two connections, one per kind of work, both under that lock:
 The hot path keeps statements few: a compare-and-set is one `UPDATE ... WHERE version = ? AND
 pending = ?` whose row count says whether it held; accepting an input is that one statement
 alone (the pending input lives in the table's document until it is played, and the `inputs`
-table holds the played ones with their outcomes); so is playing it, the input logged by a
-trigger of the table's own UPDATE (`LOG_PLAYED`). And since one process owns the file, the last
+table holds the played ones with their outcomes); playing it is that statement and the
+input's INSERT into the log, one transaction without an await (a trigger of the UPDATE
+that logged the input saved round trips to the thread when these ran there; on the loop's
+connection it only wrote the input's document into the table's row and out again). And since
+one process owns the file, the last
 committed record of the `CACHED_TABLES` most recently used tables is kept in memory
 (write-through, after each commit): a table actor reads its table before every job. So are
 the inputs logged in each table's rack under way (server/storage/rack_log.py), which a rack's
@@ -94,7 +97,6 @@ CREATE TABLE IF NOT EXISTS tables (
     listed INTEGER NOT NULL, created REAL NOT NULL, deadline REAL, doc TEXT NOT NULL,
     expires REAL,
     outcome TEXT,
-    played_doc TEXT,
     last_shot TEXT);
 CREATE INDEX IF NOT EXISTS tables_listed ON tables (listed, created);
 CREATE INDEX IF NOT EXISTS tables_deadline ON tables (deadline);
@@ -130,25 +132,11 @@ CREATE TABLE IF NOT EXISTS quick (
 """
 
 
-#: Logs a played input in the statement that stores its table (`resolve`): an UPDATE that sets
-#: `played_doc` to the input's document also writes it into `inputs`, under the shot id the
-#: table had pending and the rack its pending input was accepted in (read from the table's
-#: small document, not from the input's, which holds the outcome's trajectory), and empties
-#: the column again. One statement is atomic on its own, so the table's compare-and-set and
-#: the log's write need no transaction around them: one round trip to aiosqlite's thread where
-#: BEGIN, UPDATE, INSERT and COMMIT took four.
-LOG_PLAYED = """
-CREATE TRIGGER tables_log_played AFTER UPDATE OF played_doc ON tables
-WHEN NEW.played_doc IS NOT NULL
-BEGIN
-    INSERT OR REPLACE INTO inputs (table_id, shot_id, seq, doc, rack) VALUES (
-        NEW.id, OLD.pending, NEW.version, NEW.played_doc,
-        COALESCE(json_extract(OLD.doc, '$.pending.rack'), json_extract(NEW.played_doc, '$.rack')));
-    UPDATE tables SET played_doc = NULL WHERE id = NEW.id;
-END
-"""
-
-
+#: Logs a played input under the shot id the table had pending, at the table's new version,
+#: in the transaction of `resolve` that stores its table.
+LOG_INPUT = (
+    "INSERT OR REPLACE INTO inputs (table_id, shot_id, seq, doc, rack) VALUES (?, ?, ?, ?, ?)"
+)
 #: A compare-and-set's check that the table has played no input of a shot id.
 _UNPLAYED = " AND NOT EXISTS (SELECT 1 FROM inputs WHERE table_id = ? AND shot_id = ?)"
 #: Accepting an input into a table whose stored document is the record but for it (`accept`):
@@ -200,8 +188,8 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
     column have their last outcomes moved out of the documents into it (they stay there, read
     as before: `last_shot` refers to a logged input's outcome instead). Logged inputs get the
     `rack` column, read once from their documents, and the index over it; the quick-match queue
-    its `alive` column. The trigger is made again on every open, so that an older one is
-    replaced."""
+    its `alive` column. The trigger an older server logged played inputs with is dropped (its
+    `played_doc` column stays, unused)."""
     columns = await _columns(db, "tables")
     if "expires" not in columns:
         await db.execute("ALTER TABLE tables ADD COLUMN expires REAL")
@@ -214,16 +202,14 @@ async def _add_columns(db: aiosqlite.Connection) -> None:
             outcome = record.last_outcome and dump(record.last_outcome)
             moved = (dump(record, exclude=_DOC), outcome, table_id)
             await db.execute("UPDATE tables SET doc = ?, outcome = ? WHERE id = ?", moved)
-    for column in ("played_doc", "last_shot"):
-        if column not in columns:
-            await db.execute(f"ALTER TABLE tables ADD COLUMN {column} TEXT")
+    if "last_shot" not in columns:
+        await db.execute("ALTER TABLE tables ADD COLUMN last_shot TEXT")
     if "rack" not in await _columns(db, "inputs"):
         await db.execute("ALTER TABLE inputs ADD COLUMN rack INTEGER")
         await db.execute("UPDATE inputs SET rack = json_extract(doc, '$.rack')")
         await db.execute("DROP INDEX IF EXISTS inputs_rack")  # over json_extract(doc)
     await db.execute("CREATE INDEX IF NOT EXISTS inputs_by_rack ON inputs (table_id, rack, seq)")
-    await db.execute("DROP TRIGGER IF EXISTS tables_log_played")
-    await db.execute(LOG_PLAYED)
+    await db.execute("DROP TRIGGER IF EXISTS tables_log_played")  # an older server's log
     if "seen" not in await _columns(db, "players"):
         # Players from before invariant 15 are seen now: they expire as if new.
         await db.execute("ALTER TABLE players ADD COLUMN seen REAL")
@@ -481,14 +467,12 @@ class SqliteStorage(Storage):
         was: tuple[int, str],
         pending: str,
         new_shot: str | None = None,
-        logged: str | None = None,
         last_shot: str | None = None,
     ) -> bool:
         """Store `record` (with `pending`) if the stored table is at version and pending
         `was` (and, given `new_shot`, the table has played no input of that shot id): one
         statement, so the check and the write are one step, run on the event loop's
-        connection under the caller's lock. `logged`: the document of the input that was
-        pending, logged in `inputs` by the same statement (`LOG_PLAYED`).
+        connection under the caller's lock (who counts the write, `_wrote`).
 
         The last outcome is written only when it is not the one the stored record has: as
         `last_shot`, the shot id of the logged input whose outcome it is (so a shot's outcome,
@@ -511,17 +495,12 @@ class SqliteStorage(Storage):
         elif stored is None or stored.last_outcome is not record.last_outcome:
             sets += ", last_shot = NULL, outcome = ?"
             args.append(record.last_outcome and dump(record.last_outcome))
-        if logged is not None:
-            sets += ", played_doc = ?"
-            args.append(logged)
         sql = f"UPDATE tables SET {sets} WHERE id = ? AND version = ? AND pending = ?"
         args += [record.id, *was]
         if new_shot is not None:
             sql += _UNPLAYED
             args += [record.id, new_shot]
-        changed = self._now.execute(sql, args).rowcount
-        self._wrote()
-        return changed == 1
+        return self._now.execute(sql, args).rowcount == 1
 
     async def accept(self, record: TableRecord) -> Accepted:
         """One statement: the pending input is stored in the table's document (the inputs
@@ -539,9 +518,9 @@ class SqliteStorage(Storage):
                 doc = InputEntry.__pydantic_serializer__.to_json(entry).decode()
                 args = (entry.shot_id, doc, record.id, record.version, record.id, entry.shot_id)
                 accepted = self._now.execute(ACCEPT_INTO, args).rowcount == 1
-                self._wrote()
             else:
                 accepted = self._write(record, (record.version, ""), entry.shot_id, entry.shot_id)
+            self._wrote()
         if accepted:
             self._remember(record)
             return Accepted(AcceptResult.ACCEPTED)
@@ -551,23 +530,27 @@ class SqliteStorage(Storage):
     async def resolve(
         self, record: TableRecord, entry: InputEntry, outcome_json: bytes | None = None
     ) -> bool:
-        """One statement: the table's compare-and-set, which logs the played input in
-        `inputs` through `LOG_PLAYED` (a database from before kept the pending input there
-        too: it is replaced)."""
+        """The table's compare-and-set and the played input's log, one transaction on the
+        event loop's connection (two statements, no await between them)."""
         doc = dump(entry, outcome_json and {"outcome": outcome_json})
         last = entry.outcome is not None and entry.outcome is record.last_outcome
         last_shot = entry.shot_id if last else None
-        async with self._lock:
+        logged = (record.id, entry.shot_id, record.version, doc, entry.rack)
+        async with self._transaction_here() as now:
             was = (record.version - 1, entry.shot_id)
-            if not self._write(record, was, "", logged=doc, last_shot=last_shot):
-                return False
-            self._racks.logged(record.id, without_motion(entry))
-        self._remember(record)
-        return True
+            stored = self._write(record, was, "", last_shot=last_shot)
+            if stored:
+                now.execute(LOG_INPUT, logged)
+                self._racks.logged(record.id, without_motion(entry))
+        if stored:
+            self._remember(record)
+        return stored
 
     async def update(self, record: TableRecord) -> bool:
         async with self._lock:  # one statement: atomic without a transaction of its own
-            if not self._write(record, (record.version - 1, ""), ""):
+            changed = self._write(record, (record.version - 1, ""), "")
+            self._wrote()
+            if not changed:
                 return False
         self._remember(record)
         return True

@@ -469,7 +469,6 @@ async def test_expiry_is_bounded_per_call_and_earliest_first(storage: Storage) -
 ADDED = {
     "expires": ",\n    expires REAL",
     "outcome": ",\n    outcome TEXT",
-    "played_doc": ",\n    played_doc TEXT",
     "last_shot": ",\n    last_shot TEXT",
     "rack": "\n    rack INTEGER,",
 }
@@ -491,7 +490,7 @@ async def test_a_database_from_before_expiry_gets_its_expiry_column(tmp_path: Pa
     """A SQLite file written before invariant 12 opens, and its tables expire KEEP_IDLE after
     they were created (or as their next change says)."""
     path = tmp_path / "old.sqlite3"
-    old_schema = older_schema("expires", "outcome", "played_doc", "last_shot", "rack")
+    old_schema = older_schema("expires", "outcome", "last_shot", "rack")
     record = a_table()
     with sqlite3.connect(path) as db:
         db.executescript(old_schema)
@@ -567,7 +566,7 @@ async def test_a_database_from_before_the_outcome_column_keeps_its_last_outcomes
 ) -> None:
     """Tables stored with the last outcome inside their document read back the same."""
     path = tmp_path / "old.sqlite3"
-    old_schema = older_schema("outcome", "played_doc", "last_shot", "rack")
+    old_schema = older_schema("outcome", "last_shot", "rack")
     record = join(a_table(), BOB)
     action = refereeing.bot_input(record.state, "picker")
     entry = InputEntry(shot_id="break-0001", seat=0, input=action, version=1, accepted_at=0.0)
@@ -595,15 +594,31 @@ async def test_a_database_from_before_the_outcome_column_keeps_its_last_outcomes
         await storage.close()
 
 
-async def test_a_database_from_before_the_played_column_logs_what_its_tables_play(
+#: What a server from before the played input's log in `resolve` added to `SCHEMA`: a column
+#: the table's UPDATE set to the played input, and a trigger that logged it from there.
+PLAYED_DOC_TRIGGER = """
+CREATE TRIGGER tables_log_played AFTER UPDATE OF played_doc ON tables
+WHEN NEW.played_doc IS NOT NULL
+BEGIN
+    INSERT OR REPLACE INTO inputs (table_id, shot_id, seq, doc, rack)
+    VALUES (NEW.id, OLD.pending, NEW.version, NEW.played_doc, 1);
+    UPDATE tables SET played_doc = NULL WHERE id = NEW.id;
+END
+"""
+
+
+async def test_a_database_from_the_logging_trigger_loses_it_and_logs_each_input_once(
     tmp_path: Path,
 ) -> None:
-    """A file from before `played_doc` (inputs logged by their own INSERT) gets the column and
-    its trigger: an input played there is in the log, once, and a refused resolve logs nothing."""
+    """A file whose tables logged their played inputs through a trigger: the trigger is
+    dropped on open (its column stays, unused), an input played there is in the log once, and
+    a refused resolve logs nothing."""
     path = tmp_path / "old.sqlite3"
-    old_schema = older_schema("played_doc", "last_shot", "rack")
+    column = ",\n    last_shot TEXT"
+    assert column in SCHEMA
     with sqlite3.connect(path) as db:
-        db.executescript(old_schema)
+        db.executescript(SCHEMA.replace(column, ",\n    played_doc TEXT" + column))
+        db.executescript(PLAYED_DOC_TRIGGER)
     db.close()
     storage = await SqliteStorage.open(path)
     try:
@@ -619,6 +634,10 @@ async def test_a_database_from_before_the_played_column_logs_what_its_tables_pla
         assert await storage.find_input(record.id, "shot-0001") == accepted.pending
     finally:
         await storage.close()
+    with sqlite3.connect(path) as db:
+        triggers = db.execute("SELECT name FROM sqlite_master WHERE type = 'trigger'").fetchall()
+    db.close()
+    assert triggers == []
 
 
 async def test_a_database_from_before_the_rack_column_keeps_its_racks_and_last_outcome(
@@ -636,8 +655,8 @@ async def test_a_database_from_before_the_rack_column_keeps_its_racks_and_last_o
     with sqlite3.connect(path) as db:
         db.executescript(older_schema("last_shot", "rack"))
         doc = dump(after, exclude={"last_outcome"})
-        row = (after.id, after.version, "", 1, after.created, None, doc, 0.0, dump(outcome), None)
-        db.execute("INSERT INTO tables VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)", row)
+        row = (after.id, after.version, "", 1, after.created, None, doc, 0.0, dump(outcome))
+        db.execute("INSERT INTO tables VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)", row)
         for seq, e in enumerate(logged):
             db.execute(
                 "INSERT INTO inputs VALUES (?, ?, ?, ?)", (after.id, e.shot_id, seq, dump(e))
