@@ -1,7 +1,7 @@
 """The geometry's pot chances against the engine: every straight pot, estimated and played.
 
     .venv/bin/python bench/pot_chances.py [--from 300000,400000] [--positions 600] [--plays 40]
-                                          [--fit]
+                                          [--fit] [--model T,O,S,L]
 
 On `--positions` random nine-ball positions from each seed in `--from` (those of
 bench/runouts.py with the cue ball on the table), takes every straight pot the geometry sees
@@ -9,13 +9,15 @@ on the legal ball (rules.bot.geometry.pots), plays it `--plays` times under the 
 noise as the bot would (its pot speed, centre ball, the heading corrected for throw) and
 counts the plays that drop the ball. Prints, by band of the estimate, the pots, their mean
 estimate and the share that dropped, and the log-likelihood of all the plays under the
-estimate (higher is better), for the bot's estimate (CHANCE) and for the heading's Gaussian
-alone, which it was before: the bot values every position by these chances, so a band that
-drops less often than it is estimated is a band of positions the bot overrates.
+estimate (higher is better): the bot values every position by these chances
+(rules.bot.geometry.chance, the heading's Gaussian), so a band that drops less often than it
+is estimated is a band of positions the bot overrates.
 
-`--fit` fits the estimate's four constants (rules.bot.geometry.ChanceModel) to the plays by
-maximum likelihood and prints them, and the table again under the fitted model. Fit on some
-seeds, then measure on others: the figures worth quoting are those of seeds not fitted on.
+`ChanceModel` is that estimate with what it leaves out: the object ball's own direction error
+and a recalibration in log-odds. `--fit` fits its four constants to the plays by maximum
+likelihood and prints them with the table under them; `--model T,O,S,L` prints the table under
+given constants, for measuring a fit on seeds it was not fitted on. The README says what a
+fitted estimate did to the bot's play (measured, not kept).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ import itertools
 import math
 import statistics
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -33,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import physics
 from bench.runouts import positions
 from rules.bot.candidates import Candidate, Kind, pot_speed, spots
-from rules.bot.geometry import CHANCE, MIN_HEADING_SD, ChanceModel, pots, tolerance
+from rules.bot.geometry import MIN_HEADING_SD, chance, pots, tolerance
 from rules.bot.noise import draws, perturb, tournament
 from rules.bot.search import throw_corrected
 from rules.game import play
@@ -41,8 +44,9 @@ from rules.racks import Game
 from rules.referee import allowed, table_of
 from rules.state import State
 
-#: The estimate as it was before its fit: the heading's Gaussian alone.
-GAUSSIAN = ChanceModel(turn_spread=1.0, object_spread=0.0, shift=0.0, slope=1.0)
+#: The noise the bot plans under at its strongest level, and the heading error it assumes.
+NOISE = tournament(1.0)
+HEADING_SD = max(NOISE.heading, MIN_HEADING_SD)
 #: The rows: estimates from each bound up to the next.
 BANDS = (0.0, 0.5, 0.8, 0.9, 0.95, 0.97, 0.99, 0.995)
 
@@ -58,9 +62,41 @@ class Measured:
     dropped: int
 
 
+@dataclass(frozen=True, slots=True)
+class ChanceModel:
+    """The geometry's estimate with the errors it leaves out (turn_spread 1, object_spread 0,
+    shift 0, slope 1 is the estimate itself).
+
+    The object ball's sideways miss at the pocket, `travel` away, is Gaussian with sd `travel`
+    times its direction error: the heading error as the cue ball's path feels it
+    (`turn_spread` times the noise's: the tip's errors add squirt), turned by `turn`, and
+    beside it the object ball's own error (the throw, which the speed's and the tip's errors
+    vary), `object_spread` times the noise's heading error. The Gaussian's probability q of
+    staying within the tolerance is mapped to `shift` + `slope` * logit(q) in log-odds.
+    """
+
+    turn_spread: float
+    object_spread: float
+    shift: float
+    slope: float
+
+    def __call__(self, m: Measured) -> float:
+        if m.tol <= 0.0:
+            return 0.0
+        heading = math.radians(HEADING_SD)
+        sd_miss = m.travel * heading * math.hypot(self.turn_spread * m.turn, self.object_spread)
+        q = min(math.erf(m.tol / (math.sqrt(2) * sd_miss)), 1.0 - 1e-12)
+        return 1.0 / (1.0 + math.exp(-(self.shift + self.slope * math.log(q / (1.0 - q)))))
+
+
+def geometry(m: Measured) -> float:
+    """The estimate the bot plans with (rules.bot.geometry.chance)."""
+    return chance(m.tol, m.travel * m.turn, NOISE)
+
+
 def measure(seed: int, state: State, plays: int) -> list[Measured]:
     """Every straight pot on the legal ball in `state`, played `plays` times under the noise."""
-    noise = tournament(1.0)
+    noise = NOISE
     spot = spots(state)[0]
     table, R = spot.table, table_of(state).R
     found = []
@@ -81,35 +117,34 @@ def measure(seed: int, state: State, plays: int) -> list[Measured]:
     return found
 
 
-def estimate(model: ChanceModel, m: Measured) -> float:
-    return model(m.tol, m.travel, m.turn, max(tournament(1.0).heading, MIN_HEADING_SD))
+Estimate = Callable[[Measured], float]
 
 
-def log_likelihood(model: ChanceModel, measured: list[Measured]) -> float:
+def log_likelihood(estimate: Estimate, measured: list[Measured]) -> float:
     total = 0.0
     for m in measured:
-        p = min(max(estimate(model, m), 1e-9), 1 - 1e-9)
+        p = min(max(estimate(m), 1e-9), 1 - 1e-9)
         total += m.dropped * math.log(p) + (m.plays - m.dropped) * math.log(1 - p)
     return total
 
 
-def table(model: ChanceModel, measured: list[Measured]) -> None:
+def table(estimate: Estimate, measured: list[Measured]) -> None:
     print(f"{'estimate':<12}{'pots':>6}{'estimated':>11}{'dropped':>9}")
-    rated = [(estimate(model, m), m.dropped / m.plays) for m in measured]
+    rated = [(estimate(m), m.dropped / m.plays) for m in measured]
     for lo, hi in itertools.pairwise([*BANDS, 1.01]):
         band = [(e, d) for e, d in rated if lo <= e < hi]
         if band:
             mean_e = statistics.fmean(e for e, _ in band)
             mean_d = statistics.fmean(d for _, d in band)
             print(f"{lo:.3f}-{min(hi, 1):.3f}{len(band):>6}{mean_e:>11.3f}{mean_d:>9.3f}")
-    print(f"log-likelihood of the plays: {log_likelihood(model, measured):.1f}")
+    print(f"log-likelihood of the plays: {log_likelihood(estimate, measured):.1f}")
 
 
 def fit(measured: list[Measured]) -> ChanceModel:
     """The model's four constants that make the plays likeliest (scipy's Nelder-Mead)."""
     from scipy.optimize import minimize
 
-    start = (CHANCE.turn_spread, CHANCE.object_spread, CHANCE.shift, CHANCE.slope)
+    start = (1.0, 1.0, 0.0, 1.0)  # near the geometry's estimate (object_spread 0)
     found = minimize(
         lambda x: -log_likelihood(ChanceModel(*x), measured),
         start,
@@ -124,7 +159,8 @@ def main() -> None:
     ap.add_argument("--from", dest="first", default="300000", help="first seeds, comma-separated")
     ap.add_argument("--positions", type=int, default=600, help="positions from each seed")
     ap.add_argument("--plays", type=int, default=40, help="noisy plays of each pot")
-    ap.add_argument("--fit", action="store_true", help="fit the model's constants and print them")
+    ap.add_argument("--fit", action="store_true", help="fit ChanceModel's constants")
+    ap.add_argument("--model", help="ChanceModel's constants T,O,S,L to measure")
     args = ap.parse_args()
     seeds = [int(s) for s in args.first.split(",")]
     found = [f for s in seeds for f in positions(Game.NINEBALL, s, args.positions)]
@@ -135,14 +171,13 @@ def main() -> None:
         print(f"\r{k}/{len(found)}: {len(measured)} pots", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
     print(f"{len(measured)} straight pots on {len(found)} positions from seeds {args.first},")
-    print(f"{args.plays} plays each. The heading's Gaussian alone ({GAUSSIAN}):")
-    table(GAUSSIAN, measured)
-    print(f"rules.bot.geometry.CHANCE ({CHANCE}):")
-    table(CHANCE, measured)
-    if args.fit:
-        fitted = fit(measured)
-        print(f"fitted: {fitted}")
-        table(fitted, measured)
+    print(f"{args.plays} plays each. The estimate the bot plans with (the heading's Gaussian):")
+    table(geometry, measured)
+    models = [fit(measured)] if args.fit else []
+    models += [ChanceModel(*map(float, args.model.split(",")))] if args.model else []
+    for model in models:
+        print(f"{model}:")
+        table(model, measured)
 
 
 if __name__ == "__main__":

@@ -4,11 +4,9 @@ A pot is a ghost-ball aim: the cue ball's centre travels to the ghost ball (2R b
 object ball on the line to the pocket) and the object ball leaves along that line. Its chance
 under execution noise is estimated without simulating, from how a heading error grows on its
 way: a cue ball that strays by d1·dθ sideways at the object ball turns the contact line by
-d1·dθ / (2R cos cut), and the object ball then misses its line at the pocket by d2 times that
-(and by d2 times an error of its own, the throw's); the pot drops when that miss is within the
-pocket's tolerance (about half the mouth, narrowed as the ball approaches the mouth at an
-angle, fitted to the engine's pockets), and that Gaussian's chance is recalibrated to the
-rates the engine shows (`ChanceModel`, `CHANCE`). This estimate
+d1·dθ / (2R cos cut), and the object ball then misses its line at the pocket by d2 times that;
+the pot drops when that miss is within the pocket's tolerance (about half the mouth, narrowed
+as the ball approaches the mouth at an angle, fitted to the engine's pockets). This estimate
 ranks the pots the search simulates and values the position a shot leaves (the look-ahead);
 the referee, on simulated shots, decides everything else.
 """
@@ -51,44 +49,6 @@ COMBO_MIN_COS = 0.7
 #: Heading error assumed by the estimate at the least (degrees): even a perfect hand misses a
 #: little, so no pot is certain and long pots still rank below short ones.
 MIN_HEADING_SD = 0.05
-
-
-@dataclass(frozen=True, slots=True)
-class ChanceModel:
-    """How likely a pot is, from the pocket's tolerance and the errors on the way (`chance`).
-
-    The object ball's sideways miss at the pocket, `travel` away, is Gaussian with sd `travel`
-    times its direction error: the heading error as the cue ball's path feels it (the tip's
-    errors add squirt: `turn_spread` times the noise's), turned by `turn` (d1 / (2R cos cut)),
-    and beside it the object ball's own error (the throw, which the speed's and the tip's
-    errors vary), independent of the cue ball's way to it, `object_spread` times the noise's
-    heading error. The Gaussian's probability q of staying within the tolerance is then mapped
-    to `shift` + `slope` * logit(q) in log-odds: what the model leaves out (the jaws, a kiss)
-    makes sure pots less sure and long ones less hopeless than a Gaussian says.
-    """
-
-    turn_spread: float
-    object_spread: float
-    shift: float
-    slope: float
-
-    def __call__(self, tol: float, travel: float, turn: float, heading_sd: float) -> float:
-        """The pot's probability; heading_sd in degrees."""
-        if tol <= 0.0:
-            return 0.0
-        heading = math.radians(heading_sd)
-        sd_miss = travel * heading * math.hypot(self.turn_spread * turn, self.object_spread)
-        q = min(math.erf(tol / (math.sqrt(2) * sd_miss)), 1.0 - 1e-12)
-        return 1.0 / (1.0 + math.exp(-(self.shift + self.slope * math.log(q / (1.0 - q)))))
-
-
-#: Fitted to the engine by maximum likelihood (`bench/pot_chances.py --from 100000,200000
-#: --fit`): the 944 straight pots on the legal ball of 1,200 random nine-ball positions, played
-#: 40 times each under the tournament noise. On 1,200 other positions (`--from 300000,400000`,
-#: 968 pots) the pots it puts at 0.95-0.99 (87) dropped 0.980 of their plays for 0.975
-#: estimated; the heading's Gaussian alone had put 0.974 on its 103 there, which dropped 0.937
-#: (log-likelihood of the plays -16,309 against -16,707).
-CHANCE = ChanceModel(turn_spread=1.321, object_spread=2.03, shift=0.584, slope=0.866)
 
 
 class Via(StrEnum):
@@ -160,10 +120,13 @@ def _pocket_frame(table: Table, pocket: Pocket) -> tuple[Point, float, float]:
     return pocket_axis(table, pocket), SIDE_LIMIT if side else CORNER_LIMIT, widest
 
 
-def chance(tol: float, travel: float, turn: float, noise: Noise) -> float:
-    """Estimated probability of a pot whose object ball travels `travel` to a pocket of
-    tolerance `tol`, its direction turned `turn` times the heading's error (`CHANCE`)."""
-    return CHANCE(tol, travel, turn, max(noise.heading, MIN_HEADING_SD))
+def chance(tol: float, spread: float, noise: Noise) -> float:
+    """Estimated pot probability: the object ball's sideways miss at the pocket is Gaussian
+    with sd `spread` times the heading error (radians), and must stay within `tol`."""
+    if tol <= 0.0:
+        return 0.0
+    sd_miss = spread * math.radians(max(noise.heading, MIN_HEADING_SD))
+    return math.erf(tol / (math.sqrt(2) * sd_miss))
 
 
 @dataclass(frozen=True, slots=True)
@@ -233,7 +196,7 @@ def _straight(
     leg = _leg(table, placed, "cue", t, pocket.center, checked)
     if leg is None:
         return None
-    p = chance(tol, d2, _turn(leg, table.R), noise)
+    p = chance(tol, d2 * _turn(leg, table.R), noise)
     return Pot(t, pocket.name, placed["cue"], leg.ghost, leg.d1, leg.cos_cut, d2, p)
 
 
@@ -372,7 +335,7 @@ def banks(
                 if leg is None:
                     continue
                 length = math.dist(tp, bounce) + math.dist(bounce, pocket.center)
-                p = chance(tol, BANK_SPREAD * length, _turn(leg, R), noise)
+                p = chance(tol, BANK_SPREAD * length * _turn(leg, R), noise)
                 pot = Pot(t, pocket.name, cue, leg.ghost, leg.d1, leg.cos_cut, length, p, Via.BANK)
                 found.append(pot)
     return _likeliest(found)
@@ -400,7 +363,7 @@ def combos(
                 if first is None:
                     continue
                 d2 = math.dist(op, pocket.center)
-                p = chance(tol, d2, _turn(second, R) * _turn(first, R), noise)
+                p = chance(tol, d2 * _turn(second, R) * _turn(first, R), noise)
                 travel = second.d1 / second.cos_cut + d2
                 pot = Pot(t, pocket.name, cue, first.ghost, first.d1, first.cos_cut, travel, p)
                 found.append(replace(pot, via=Via.COMBO))

@@ -73,3 +73,24 @@ def test_potrates_bands_every_chosen_pot_once():
     assert n > 0 and int(rows["all"][0]) == n
     assert sum(int(r[0]) for band, r in rows.items() if band != "all") == n
     assert all(0.0 <= float(r[1]) <= 1.0 and 0.0 <= float(r[2]) <= 1.0 for r in rows.values())
+
+
+def test_pot_chances_model_holds_the_bots_estimate_and_fits():
+    """bench/pot_chances.py: its ChanceModel with nothing added is the estimate the bot plans
+    with, pot for pot; the script measures pots, fits the model and prints both tables."""
+    from bench.pot_chances import ChanceModel, geometry, measure
+    from bench.runouts import positions
+    from rules.racks import Game
+
+    measured = [
+        m
+        for seed, state in positions(Game.NINEBALL, 500_000, 30)
+        if not state.ball_in_hand
+        for m in measure(seed, state, 2)
+    ]
+    assert len(measured) >= 10
+    same = ChanceModel(turn_spread=1.0, object_spread=0.0, shift=0.0, slope=1.0)
+    assert all(abs(same(m) - geometry(m)) < 1e-9 for m in measured)
+    out = _bench("bench/pot_chances.py", "--positions", "30", "--plays", "4", "--fit")
+    assert out.count("log-likelihood of the plays") == 2
+    assert "ChanceModel(turn_spread=" in out

@@ -8,15 +8,12 @@ import math
 import random
 
 import physics
-from bench.pot_chances import GAUSSIAN, estimate, log_likelihood, measure
-from bench.runouts import positions
 from rules.bot.candidates import Candidate, Kind, pot_speed
-from rules.bot.geometry import CHANCE, Via, banks, best_pots, combos, pots
+from rules.bot.geometry import Via, banks, best_pots, combos, pots
 from rules.bot.noise import tournament
 from rules.bot.search import throw_corrected
 from rules.game import play, scene, shot_position
 from rules.inputs import Shot, Strike
-from rules.racks import Game
 from rules.spots import POOL_TABLE
 from rules.state import State
 
@@ -122,21 +119,3 @@ def test_best_pots_are_the_pots_ranked_by_worth():
         for n in (1, 2):
             ranked = sorted(every, key=lambda a: -worth(a))[:n]
             assert best_pots(T, balls["cue"], balls, targets, NOISE, n, worth) == ranked
-
-
-def test_the_chance_of_a_pot_is_what_the_engine_drops():
-    """On positions the chance was not fitted on, pots estimated near-sure drop about as often
-    as estimated, and the plays are likelier under the fitted estimate than under the
-    heading's Gaussian alone, which overrated them."""
-    measured = [
-        m
-        for seed, state in positions(Game.NINEBALL, 500_000, 400)
-        if not state.ball_in_hand
-        for m in measure(seed, state, 20)
-    ]
-    sure = [m for m in measured if estimate(CHANCE, m) >= 0.9]
-    assert len(sure) >= 10
-    estimated = sum(estimate(CHANCE, m) for m in sure) / len(sure)
-    dropped = sum(m.dropped for m in sure) / sum(m.plays for m in sure)
-    assert abs(estimated - dropped) < 0.015
-    assert log_likelihood(CHANCE, measured) > log_likelihood(GAUSSIAN, measured)
