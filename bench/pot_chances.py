@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import physics
 from bench.runouts import positions
 from rules.bot.candidates import Candidate, Kind, pot_speed, spots
-from rules.bot.geometry import MIN_HEADING_SD, chance, pots, tolerance
+from rules.bot.geometry import MIN_HEADING_SD, _direction, _Leg, _turn, chance, pots, tolerance
 from rules.bot.noise import draws, perturb, tournament
 from rules.bot.search import throw_corrected
 from rules.game import play
@@ -96,24 +96,21 @@ def geometry(m: Measured) -> float:
 
 def measure(seed: int, state: State, plays: int) -> list[Measured]:
     """Every straight pot on the legal ball in `state`, played `plays` times under the noise."""
-    noise = NOISE
     spot = spots(state)[0]
     table, R = spot.table, table_of(state).R
     found = []
-    for p in pots(table, spot.cue, spot.balls, allowed(state).targets, noise):
+    for p in pots(table, spot.cue, spot.balls, allowed(state).targets, NOISE):
         strike = {"speed": round(pot_speed(p), 3), "heading": p.heading}
         shot = spot.shot(p.target, p.pocket, **strike)
         aimed = throw_corrected(state, Candidate(shot, Kind.POT, p), physics.simulate).shot
         dropped = sum(
-            p.target in play(state, perturb(aimed, noise, d, R)).decision.pocketed
+            p.target in play(state, perturb(aimed, NOISE, d, R)).decision.pocketed
             for d in draws(seed, plays, "pot_chances", p.target, p.pocket)
         )
         pocket = next(k for k in table.pockets if k.name == p.pocket)
-        at = spot.balls[p.target]
-        away = math.dist(at, pocket.center)
-        way = ((pocket.center[0] - at[0]) / away, (pocket.center[1] - at[1]) / away)
-        turn = max(p.d1, 2 * R) / (2 * R * p.cos_cut)
-        found.append(Measured(tolerance(table, pocket, way), p.travel, turn, plays, dropped))
+        tol = tolerance(table, pocket, _direction(spot.balls[p.target], pocket.center))
+        turn = _turn(_Leg(p.ghost, p.d1, p.cos_cut), R)
+        found.append(Measured(tol, p.travel, turn, plays, dropped))
     return found
 
 
