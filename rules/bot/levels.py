@@ -50,15 +50,20 @@ class Level:
 #: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples, fine.
 #: The hands are spaced so that each level wins at least 60% of nine-ball racks against the one
 #: below (bench/bot.py's ladder row): with level 1's hand at 8 level 2 won only 54 of 100, the
-#: search budgets below level 5 being small beside the noise; at 12 it won 69 and 75. Level 4's
-#: 1.2 won 61 and 64 of 100 against level 3; 0.8 won 73. Level 5's leaders get 80 samples
-#: each (40 before): against the search baseline that took 314 of 400 nine-ball racks to 324
-#: (two seeds of 200: 164 to 163 and 150 to 161, its foul losses 15 to 7 on the second), at
-#: about 860 simulations a shot, a median decision of 0.35 s on a core of its own. More does
-#: not buy wins against the pickers: 10 pots, width 32 x 16 samples and 10 leaders (about 1,400
-#: simulations, 0.54 s) won 365 of 400 nine-ball racks on fresh seeds, this row 367 of 400.
+#: search budgets below level 5 being small beside the noise; at 12 it won 69 and 75 of 100
+#: and 283 of 400 (seed 5,000), at 16 321 of 400. Level 4's 1.2 won 61 and 64 of 100 against
+#: level 3; 0.8 won 73. Level 3's hand balances the two steps it is in (400 racks each, seed
+#: 5,000: at 2.0, 2.5 and 3.0 it won 275, 271 and 253 against level 2 and lost 244, 272 and
+#: 301 to level 4); level 2's between 5 and 6.5 moved the step above within chance (269-279),
+#: level 4's at 1.0 instead of 0.8 neither of its steps (272 and 272 of 400 both ways).
+#: Level 5's leaders get 80 samples each (40 before): against the search baseline that took
+#: 314 of 400 nine-ball racks to 324 (two seeds of 200: 164 to 163 and 150 to 161, its foul
+#: losses 15 to 7 on the second), at about 860 simulations a shot, a median decision of 0.35 s
+#: on a core of its own. More does not buy wins against the pickers: 10 pots, width 32 x 16
+#: samples and 10 leaders (about 1,400 simulations, 0.54 s) won 365 of 400 nine-ball racks on
+#: fresh seeds, this row 367 of 400.
 TABLE = (
-    (1, 12.0, 2, 12, 3, 2, 0, 0, False),
+    (1, 16.0, 2, 12, 3, 2, 0, 0, False),
     (2, 5.0, 3, 40, 6, 3, 2, 6, False),
     (3, 2.5, 4, 100, 8, 5, 3, 10, False),
     (4, 0.8, 5, 200, 12, 6, 4, 16, False),
