@@ -94,6 +94,15 @@ CONNECT_TIMEOUT_S = 10.0
 SETTLE_TIMEOUT_S = 30.0
 LOADGEN_NICE = 10  # the load generator's priority below the servers' and Redis' (see pin)
 PAD = "x" * 64
+#: glibc's allocator, fixed for the Python servers. By default it maps a block above its mmap
+#: threshold (128 KiB) with mmap, and raises that threshold only when such a block is freed at
+#: its full size. asyncio reads a socket into a 256 KiB buffer, shrinks it to what came
+#: (mremap) and frees it (munmap): three more system calls a read, until something has freed a
+#: large block and the threshold has risen. Whether it had depended on what the server did
+#: before: the bare forwarder took 39-43 us of CPU a pairs delivery from a fresh start and 31-35
+#: after the capacity phase (docs/operations.md). Fixed thresholds put every server in the
+#: second state from its start.
+MALLOC_ENV = {"MALLOC_MMAP_THRESHOLD_": str(1 << 20), "MALLOC_TRIM_THRESHOLD_": str(8 << 20)}
 
 
 @dataclass(frozen=True)
@@ -248,12 +257,13 @@ class ServerProcess(AbstractContextManager["ServerProcess"]):
         port: int,
         redis_url: str | None = None,
         redis_pid: int | None = None,
+        env: dict[str, str] | None = None,
     ) -> None:
         self.port = port
         self.what = what
         self.redis_url = redis_url
         self.redis_pid = redis_pid
-        self.process = subprocess.Popen(args, stdout=subprocess.DEVNULL)
+        self.process = subprocess.Popen(args, stdout=subprocess.DEVNULL, env=env)
         wait_for_port(port, self.process, what)
 
     def measured_pids(self) -> list[int]:
@@ -377,7 +387,8 @@ def start_target(target: str, stack: ExitStack) -> ServerProcess | None:
     kind = "bare" if target == "bare" else "relay"
     args = [sys.executable, __file__, "--serve", kind, "--port", str(port)]
     args += ["--redis", redis_url] if redis_url else []
-    return stack.enter_context(ServerProcess(args, target, port, redis_url, redis_pid))
+    env = {**os.environ, **MALLOC_ENV}
+    return stack.enter_context(ServerProcess(args, target, port, redis_url, redis_pid, env))
 
 
 # ----- load generator ------------------------------------------------------------------------
