@@ -36,7 +36,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 import physics
 from bench.runouts import positions
 from rules.bot.candidates import Candidate, Kind, pot_speed, spots
-from rules.bot.geometry import MIN_HEADING_SD, _direction, _Leg, _turn, chance, pots, tolerance
+from rules.bot.geometry import _direction, _Leg, _turn, chance, pots, tolerance
 from rules.bot.noise import draws, perturb, tournament
 from rules.bot.search import throw_corrected
 from rules.game import play
@@ -44,9 +44,8 @@ from rules.racks import Game
 from rules.referee import allowed, table_of
 from rules.state import State
 
-#: The noise the bot plans under at its strongest level, and the heading error it assumes.
+#: The noise the bot plans under at its strongest level.
 NOISE = tournament(1.0)
-HEADING_SD = max(NOISE.heading, MIN_HEADING_SD)
 #: The rows: estimates from each bound up to the next.
 BANDS = (0.0, 0.5, 0.8, 0.9, 0.95, 0.97, 0.99, 0.995)
 
@@ -83,9 +82,8 @@ class ChanceModel:
     def __call__(self, m: Measured) -> float:
         if m.tol <= 0.0:
             return 0.0
-        heading = math.radians(HEADING_SD)
-        sd_miss = m.travel * heading * math.hypot(self.turn_spread * m.turn, self.object_spread)
-        q = min(math.erf(m.tol / (math.sqrt(2) * sd_miss)), 1.0 - 1e-12)
+        spread = m.travel * math.hypot(self.turn_spread * m.turn, self.object_spread)
+        q = min(chance(m.tol, spread, NOISE), 1.0 - 1e-12)
         return 1.0 / (1.0 + math.exp(-(self.shift + self.slope * math.log(q / (1.0 - q)))))
 
 
