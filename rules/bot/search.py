@@ -33,7 +33,7 @@ from dataclasses import dataclass, replace
 from typing import Protocol
 
 import physics
-from rules.bot.candidates import Candidate, Kind, candidates
+from rules.bot.candidates import Candidate, Kind, Strokes, candidates
 from rules.bot.levels import Level
 from rules.bot.noise import Draw, Noise, draws, perturb
 from rules.bot.value import WIN, outcome_value
@@ -188,10 +188,13 @@ def search(
     evaluator: Evaluator,
     simulate: Simulate = physics.simulate,
     clock: Callable[[], float] = time.monotonic,
+    *,
+    strokes: Strokes | None = None,
 ) -> tuple[Shot, Report]:
-    """The best shot for the player to shoot in `state` (no choice pending), and the report."""
+    """The best shot for the player to shoot in `state` (no choice pending), and the report.
+    strokes: how pots and contacts are varied (default: the level's set, rules.bot.candidates)."""
     start = clock()
-    found = candidates(state, level)
+    found = candidates(state, level, strokes)
     cands = [throw_corrected(state, c, simulate) if c.pot else c for c in found[: level.screen]]
     sims = sum(1 for c in cands if c.pot)
     screened = evaluator.run([Task(state, c.shot, (EXACT,), noise) for c in cands])

@@ -75,6 +75,19 @@ def test_potrates_bands_every_chosen_pot_once():
     assert all(0.0 <= float(r[1]) <= 1.0 and 0.0 <= float(r[2]) <= 1.0 for r in rows.values())
 
 
+def test_strokes_compares_every_set_with_the_first_on_the_same_positions():
+    out = _bench("bench/strokes.py", "--positions", "2", "--judge", "4", "--jobs", "1")
+    rows = [[cell.strip() for cell in line.split("|")[1:-1]] for line in out.splitlines()[2:]]
+    from bench.strokes import SETS
+
+    assert [(r[0], r[1]) for r in rows] == [
+        (game, name) for game in ("nineball", "eightball") for name in SETS
+    ]
+    assert all(r[2] == "2" and 0 <= int(r[3]) <= 2 for r in rows)
+    first = [r for r in rows if r[1] == next(iter(SETS))]
+    assert all(r[3] == "0" and r[4].startswith("+0.0000") for r in first)
+
+
 def test_pot_chances_model_holds_the_bots_estimate_and_fits():
     """bench/pot_chances.py: its ChanceModel with nothing added is the estimate the bot plans
     with, pot for pot; the script measures pots, fits the model and prints both tables."""

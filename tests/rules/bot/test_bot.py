@@ -14,7 +14,7 @@ import pytest
 
 import physics
 from rules.aim import snookered
-from rules.bot.candidates import Kind, candidates, kicks, spots
+from rules.bot.candidates import COARSE, FINE, Kind, candidates, kicks, spots
 from rules.bot.chooser import Bot, Picker, chooser
 from rules.bot.geometry import cushion_bounces
 from rules.bot.levels import LEVELS, STRONGEST, level
@@ -215,6 +215,21 @@ def test_the_wall_clock_cap_stops_the_search_between_stages():
     )
     assert report.capped and report.stages == 0
     assert engine.calls == report.simulations <= 2 * STRONGEST.screen
+
+
+def test_a_search_given_strokes_screens_their_variations_and_no_others():
+    """`search(strokes=...)` varies the pots as told (bench/strokes.py compares sets so); given
+    the level's own set it is the level's search."""
+    state = random_position(Game.NINEBALL, 5).evolve(pending=())
+    coarse, seen = search(state, level(2), 1, tournament(1.0), InProcess(), strokes=COARSE)
+    shot, report = search(state, level(2), 1, tournament(1.0), InProcess())
+    assert (coarse, seen.candidates, seen.simulations) == (
+        shot,
+        report.candidates,
+        report.simulations,
+    )
+    _, fine = search(state, level(2), 1, tournament(1.0), InProcess(), strokes=FINE)
+    assert fine.candidates > seen.candidates
 
 
 def test_chooser_names():
