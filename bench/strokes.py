@@ -48,8 +48,7 @@ from bench.runouts import positions
 from rules.bot.candidates import FINE, Strokes
 from rules.bot.levels import STRONGEST
 from rules.bot.noise import draws, tournament
-from rules.bot.search import InProcess, played_under, search, state_key
-from rules.bot.value import WIN, outcome_value
+from rules.bot.search import InProcess, Task, run_task, search, state_key
 from rules.inputs import Shot
 from rules.racks import Game
 from rules.state import State
@@ -73,12 +72,8 @@ SEARCH_SEED, JUDGE_SEED = 0, 777
 
 def judged(state: State, shot: Shot, plays: int) -> float:
     """The mean value of `shot` over `plays` plays on draws the search never saw."""
-    noise = tournament(1.0)
-    total = 0.0
-    for d in draws(JUDGE_SEED, plays, "judge", state_key(state)):
-        outcome = played_under(state, shot, noise, d)
-        total += -WIN if outcome is None else outcome_value(state, outcome, noise)
-    return total / plays
+    judging = tuple(draws(JUDGE_SEED, plays, "judge", state_key(state)))
+    return statistics.fmean(run_task(Task(state, shot, judging, tournament(1.0))))
 
 
 def decide(job: tuple[State, int]) -> list[tuple[float, float, int, str]]:
@@ -97,6 +92,7 @@ def decide(job: tuple[State, int]) -> list[tuple[float, float, int, str]]:
 
 
 def rows(game: Game, results: list[list[tuple[float, float, int, str]]]) -> list[str]:
+    """The table's rows of one game: each set against the first, position by position."""
     lines = []
     for k, name in enumerate(SETS):
         gain = [r[k][0] - r[0][0] for r in results]
