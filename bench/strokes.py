@@ -47,7 +47,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from bench.runouts import positions
 from rules.bot.candidates import FINE, Strokes
 from rules.bot.levels import STRONGEST
-from rules.bot.noise import draws, tournament
+from rules.bot.noise import Draw, draws, tournament
 from rules.bot.search import InProcess, Task, run_task, search, state_key
 from rules.inputs import Shot
 from rules.racks import Game
@@ -70,15 +70,16 @@ LEVEL = replace(STRONGEST, screen=SCREEN)
 SEARCH_SEED, JUDGE_SEED = 0, 777
 
 
-def judged(state: State, shot: Shot, plays: int) -> float:
-    """The mean value of `shot` over `plays` plays on draws the search never saw."""
-    judging = tuple(draws(JUDGE_SEED, plays, "judge", state_key(state)))
+def judged(state: State, shot: Shot, judging: tuple[Draw, ...]) -> float:
+    """The mean value of `shot` over plays on the `judging` draws (none the search saw)."""
     return statistics.fmean(run_task(Task(state, shot, judging, tournament(1.0))))
 
 
 def decide(job: tuple[State, int]) -> list[tuple[float, float, int, str]]:
-    """For each set: (judged value, seconds, simulations, chosen shot's JSON) on one position."""
+    """For each set: (judged value, seconds, simulations, chosen shot's JSON) on one position,
+    every set's choice judged on the same draws."""
     state, plays = job
+    judging = tuple(draws(JUDGE_SEED, plays, "judge", state_key(state)))
     out = []
     for strokes in SETS.values():
         t0 = time.process_time()
@@ -86,7 +87,7 @@ def decide(job: tuple[State, int]) -> list[tuple[float, float, int, str]]:
             state, LEVEL, SEARCH_SEED, tournament(1.0), InProcess(), strokes=strokes
         )
         seconds = time.process_time() - t0
-        value = judged(state, shot, plays)
+        value = judged(state, shot, judging)
         out.append((value, seconds, report.simulations, shot.model_dump_json()))
     return out
 
