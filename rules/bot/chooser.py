@@ -89,7 +89,7 @@ class Bot:
 
     def choose(self, state: State) -> PlayerInput:
         if state.pending:
-            values = choice_values(state, self.plan)
+            values = choice_values(state, self.plan, self.level.rival)
             best = max((o for o in OPTIONS if o in values), key=lambda o: values[o])
             return Choice(option=best)
         shot, self.last = search(

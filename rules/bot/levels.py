@@ -13,6 +13,8 @@ is a function of the position, the level and the seed alone (see rules.bot.searc
   mean decides;
 - fine: pots and contacts varied with the fine set of strokes (rules.bot.candidates: five
   speeds and side), which only a wide screen holds; the coarse set otherwise;
+- rival: what a sure pot is worth to the opponent on the value's scale (rules.bot.value: the
+  bot's model of its opponent in the pool games; KEEP_SURE prices them as its equal);
 - cap: a wall-clock safety limit (s). A search that reaches it stops between stages and plays
   the best shot found so far; that decision, unlike all others, depends on the machine's speed
   (the search reports it). With the budgets below it is not reached on today's engine.
@@ -26,6 +28,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from rules.bot.value import KEEP_SURE
+
 
 @dataclass(frozen=True, slots=True)
 class Level:
@@ -38,6 +42,7 @@ class Level:
     leaders: int
     leader_samples: int
     fine: bool = False
+    rival: float = KEEP_SURE
     cap: float = 60.0
 
     @property
@@ -47,7 +52,8 @@ class Level:
         return 2 * self.screen + self.width * self.samples + self.leaders * self.leader_samples
 
 
-#: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples, fine.
+#: Each row: number, hand, pots, screen, width, samples, leaders, leader_samples, fine and,
+#: where it is not KEEP_SURE, rival.
 #: The hands are spaced so that each level wins at least 60% of nine-ball racks against the one
 #: below (bench/bot.py's ladder row): with level 1's hand at 8 level 2 won only 54 of 100, the
 #: search budgets below level 5 being small beside the noise; at 12 it won 69 and 75 of 100
@@ -62,12 +68,18 @@ class Level:
 #: on a core of its own. More does not buy wins against the pickers: 10 pots, width 32 x 16
 #: samples and 10 leaders (about 1,400 simulations, 0.54 s) won 365 of 400 nine-ball racks on
 #: fresh seeds, this row 367 of 400.
+#: The strongest level prices its opponent's sure pot at 0.6 (a rack won 80% of the time,
+#: where its own is worth 0.9, 95%): everyone it meets converts the table less well than it
+#: does. Against the pickers, 368 of 400 nine-ball racks on seed 7,100 where the equal's
+#: pricing won 357 (14 racks won only by it, 3 only by the equal's), and 369 of 400 eight-ball
+#: racks on seed 8,200 against 366 (11 and 8); against `mcts` 316 of 400 against 315.
+RIVAL = 0.6
 TABLE = (
     (1, 16.0, 2, 12, 3, 2, 0, 0, False),
     (2, 5.0, 3, 40, 6, 3, 2, 6, False),
     (3, 2.5, 4, 100, 8, 5, 3, 10, False),
     (4, 0.8, 5, 200, 12, 6, 4, 16, False),
-    (5, 0.0, 8, 500, 24, 12, 6, 80, True),
+    (5, 0.0, 8, 500, 24, 12, 6, 80, True, RIVAL),
 )
 LEVELS: tuple[Level, ...] = tuple(Level(*row) for row in TABLE)
 STRONGEST = LEVELS[-1]

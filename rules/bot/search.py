@@ -36,7 +36,7 @@ import physics
 from rules.bot.candidates import Candidate, Kind, Strokes, candidates
 from rules.bot.levels import Level
 from rules.bot.noise import Draw, Noise, draws, perturb
-from rules.bot.value import WIN, outcome_value
+from rules.bot.value import KEEP_SURE, WIN, outcome_value
 from rules.game import Outcome, Simulate, play, scene, shot_position
 from rules.inputs import Shot
 from rules.referee import table_of
@@ -51,12 +51,14 @@ MAX_THROW = 3.0
 
 @dataclass(frozen=True, slots=True)
 class Task:
-    """Play `shot` in `state` once per draw, perturbed by `noise`, and value each outcome."""
+    """Play `shot` in `state` once per draw, perturbed by `noise`, and value each outcome
+    (the opponent's table priced with `rival`, rules.bot.value)."""
 
     state: State
     shot: Shot
     draws: tuple[Draw, ...]
     noise: Noise
+    rival: float = KEEP_SURE
 
 
 def played_under(
@@ -76,7 +78,10 @@ def run_task(task: Task, simulate: Simulate = physics.simulate) -> tuple[float, 
     values = []
     for d in task.draws:
         outcome = played_under(task.state, task.shot, task.noise, d, simulate)
-        values.append(-WIN if outcome is None else outcome_value(task.state, outcome, task.noise))
+        if outcome is None:
+            values.append(-WIN)
+        else:
+            values.append(outcome_value(task.state, outcome, task.noise, task.rival))
     return tuple(values)
 
 
@@ -197,7 +202,8 @@ def search(
     found = candidates(state, level, strokes)
     cands = [throw_corrected(state, c, simulate) if c.pot else c for c in found[: level.screen]]
     sims = sum(1 for c in cands if c.pot)
-    screened = evaluator.run([Task(state, c.shot, (EXACT,), noise) for c in cands])
+    rival = level.rival
+    screened = evaluator.run([Task(state, c.shot, (EXACT,), noise, rival) for c in cands])
     sims += len(cands)
     tallies = {i: _Tally(list(v)) for i, v in enumerate(screened)}
     among = sorted(tallies, key=lambda i: (-tallies[i].mean, i))[: level.width]
@@ -214,7 +220,8 @@ def search(
         if stages == 0:
             for i in among:
                 tallies[i] = _Tally([])
-        results = evaluator.run([Task(state, cands[i].shot, tuple(batch), noise) for i in among])
+        tasks = [Task(state, cands[i].shot, tuple(batch), noise, rival) for i in among]
+        results = evaluator.run(tasks)
         for i, v in zip(among, results, strict=True):
             tallies[i].values.extend(v)
         sims += len(among) * len(batch)

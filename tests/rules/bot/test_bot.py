@@ -19,9 +19,10 @@ from rules.bot.chooser import Bot, Picker, chooser
 from rules.bot.geometry import cushion_bounces
 from rules.bot.levels import LEVELS, STRONGEST, level
 from rules.bot.noise import draws, perturb, tournament
-from rules.bot.search import InProcess, search
+from rules.bot.search import EXACT, InProcess, Task, run_task, search
+from rules.bot.value import KEEP_SURE
 from rules.game import Setup, check, play, start
-from rules.inputs import Choice, Shot
+from rules.inputs import Choice, Shot, Strike
 from rules.racks import Game
 from rules.record import GameRecord, replay
 from rules.referee import allowed, referee
@@ -323,3 +324,15 @@ def test_every_level_but_the_first_screens_a_safety(lv):
             found = candidates(state, lv)
             safe = [c.kind in (Kind.CONTACT, Kind.KICK) for c in found]
             assert any(safe[: lv.screen]) == any(safe), (game, seed)
+
+
+def test_a_shot_that_hands_the_table_over_costs_less_against_a_weaker_rival():
+    """The 9 alone and a stroke sent away from it: a foul, ball in hand to the opponent. The
+    search's task values it through the rival it carries (the strongest level's own)."""
+    state = State(game=Game.NINEBALL, balls={"cue": (0.6, 0.6), "9": (0.6, 2.0)}, shots=5)
+    miss = Shot(strike=Strike(ball="cue", speed=1.0, heading=-90.0))
+    noise = tournament(1.0)
+    (equal,) = run_task(Task(state, miss, (EXACT,), noise))
+    (weaker,) = run_task(Task(state, miss, (EXACT,), noise, STRONGEST.rival))
+    assert STRONGEST.rival < KEEP_SURE
+    assert -1.0 < equal < weaker < 0.0

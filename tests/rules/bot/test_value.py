@@ -5,10 +5,21 @@ from __future__ import annotations
 
 import math
 
+import pytest
+
 from rules.bot.geometry import pots
 from rules.bot.noise import tournament
 from rules.bot.placements import placements
-from rules.bot.value import cue_after, keep, position_value, shape
+from rules.bot.value import (
+    KEEP_NOTHING,
+    KEEP_SURE,
+    cue_after,
+    keep,
+    position_value,
+    shape,
+    theirs,
+    value_for,
+)
 from rules.racks import Game, rack
 from rules.referee import referee
 from rules.spots import POOL_TABLE, SNOOKER, in_region, is_free
@@ -81,3 +92,22 @@ def test_a_ball_in_hand_in_the_d_is_valued_from_fewer_places_all_in_the_d():
     coarse = placements(state, SNOOKER, balls, coarse=True)
     assert coarse and len(coarse) < len(fine) and set(coarse) <= set(fine)
     assert all(in_region(p, "D", SNOOKER) for p in coarse)
+
+
+def test_a_weaker_rival_makes_less_of_the_same_table():
+    """Priced as a rival who makes 0.6 of a sure pot, the opponent's sure 9 costs the bot
+    less than an equal's would, by the same scale about KEEP_NOTHING; no pot costs the same."""
+    sure = nineball({"cue": CUE, "9": ONE}).model_copy(update={"turn": 1})
+    v = position_value(sure, NOISE)
+    assert v > 0.8
+    assert value_for(sure, 0, NOISE) == -v
+    weaker = value_for(sure, 0, NOISE, 0.6)
+    assert weaker == -theirs(sure, v, 0.6) > -v
+    assert theirs(sure, KEEP_SURE, 0.6) == pytest.approx(0.6)
+    assert theirs(sure, KEEP_NOTHING, 0.6) == KEEP_NOTHING
+    assert value_for(sure, 1, NOISE, 0.6) == v  # the player to act prices only the other
+
+
+def test_a_rival_prices_only_the_pool_games():
+    state = State(game=Game.SNOOKER, balls=dict(rack(Game.SNOOKER, 1)), turn=1)
+    assert theirs(state, 0.5, 0.6) == 0.5
