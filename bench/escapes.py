@@ -68,7 +68,10 @@ def main() -> None:
         plays = [played_under(state, shot, noise, d) for d in draws(seed, args.plays, "escapes")]
         fouls.append(statistics.fmean(o is None or bool(o.decision.fouls) for o in plays))
         values.append(
-            statistics.fmean(-WIN if o is None else outcome_value(state, o, noise) for o in plays)
+            statistics.fmean(
+                -WIN if o is None else outcome_value(state, o, noise, STRONGEST.rival)
+                for o in plays
+            )
         )
         print(
             f"{seed:>7}{bot.last.candidates:>11}{bot.last.value:>9.3f}{values[-1]:>7.3f}"

@@ -71,8 +71,9 @@ SEARCH_SEED, JUDGE_SEED = 0, 777
 
 
 def judged(state: State, shot: Shot, judging: tuple[Draw, ...]) -> float:
-    """The mean value of `shot` over plays on the `judging` draws (none the search saw)."""
-    return statistics.fmean(run_task(Task(state, shot, judging, tournament(1.0))))
+    """The mean value of `shot` over plays on the `judging` draws (none the search saw), the
+    opponent's table priced as the level prices it."""
+    return statistics.fmean(run_task(Task(state, shot, judging, tournament(1.0), LEVEL.rival)))
 
 
 def decide(job: tuple[State, int]) -> list[tuple[float, float, int, str]]:
