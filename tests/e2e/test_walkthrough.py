@@ -5,6 +5,10 @@ for a person to look at; the test asserts only what each step must show to be un
 
 from __future__ import annotations
 
+import time
+
+from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
 from tests.e2e.conftest import (
     Api,
     create_at_home,
@@ -21,6 +25,9 @@ from tests.e2e.conftest import (
 
 #: How long a page may take to animate every shot it was sent (a whole rack, software WebGL).
 CATCH_UP_MS = 600_000
+#: How long (s) a table against the bot may show no change: a shot simulated and animated, or
+#: the bot's search and its pause, take seconds; longer is a stall, and the test says where.
+STALL_S = 180
 
 
 class Walk:
@@ -146,8 +153,11 @@ def bot_shoots(walk: Walk, page, server) -> bool:
     walk.shot(page, "bot-table")
     api, table = Api(page, server), page.url.rsplit("/", 1)[1]
     # The player shoots until the bot has a shot to play (a break that pots plays on).
+    deadline = time.monotonic() + STALL_S
     while page.evaluate("window.billiards.botAims()") < 1:
         view = api.table(table)
+        if time.monotonic() > deadline:
+            raise AssertionError(f"the bot's rack stalled at {view['version']}: {view['next']}")
         shown = page.evaluate("window.billiards.version") == view["version"]
         if view["next"] is None:  # the rack is over: its last shot may be the bot's, still shown
             if shown and page.evaluate("window.billiards.botAims()") < 1:
@@ -158,18 +168,44 @@ def bot_shoots(walk: Walk, page, server) -> bool:
                 page.locator("#choices button").first.click()
             else:
                 strike_with_keys(page, hold_ms=1200)
-            page.wait_for_function(
+            wait_explained(
+                page,
+                server,
+                table,
                 "(v) => window.billiards.version > v || window.billiards.botAims() >= 1",
-                arg=view["version"],
-                timeout=180_000,
+                view["version"],
             )
+            deadline = time.monotonic() + STALL_S
         else:
             page.wait_for_timeout(100)
     walk.shot(page, "bot-lining-up", settle=False)  # (during the bot's pause before its stroke)
     version = page.evaluate("window.billiards.version")
-    page.wait_for_function("(v) => window.billiards.version > v", arg=version, timeout=180_000)
+    wait_explained(page, server, table, "(v) => window.billiards.version > v", version)
     walk.shot(page, "bot-after-its-shot")
     return True
+
+
+def wait_explained(page, server, table: str, condition: str, version: int) -> None:
+    """Wait (at most STALL_S) for `condition` of the page's version; if it never holds, fail
+    with what the page showed, what the server held and the end of its log, so that a stall
+    says where it was."""
+    try:
+        page.wait_for_function(condition, arg=version, timeout=STALL_S * 1000)
+    except PlaywrightTimeout:
+        shown = page.evaluate(
+            """() => ({status: document.getElementById('status').textContent,
+                refusal: document.getElementById('refusal').textContent,
+                hint: document.getElementById('hint').textContent,
+                version: window.billiards.version, sending: window.billiards.sending,
+                drawn: window.billiards.drawn(), botAims: window.billiards.botAims()})"""
+        )
+        held = Api(page, server).table(table)
+        log = (server.directory / "server.log").read_text(errors="replace")[-4000:]
+        raise AssertionError(
+            f"the page stalled after version {version}: it shows {shown}; the server holds "
+            f"version {held['version']}, next {held['next']}, status {held['status']}; "
+            f"the server's log ends:\n{log}"
+        ) from None
 
 
 def test_a_newcomer_walks_through_the_game(browser, server, console):
