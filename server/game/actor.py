@@ -53,6 +53,9 @@ these on both storage backends; tests/service/test_stalls.py holds each over rea
    rack being played, its inputs so far, before the ending is stored, and the table lists the
    replay with the others (`replays`, rack by rack). A rack in which no input was played has
    nothing to replay and no replay.
+8. **Every request is answered.** A client's command gets its answer, its refusal, or the
+   error it met: the storage unreachable (503 `unavailable`) or a bug (500, and logged). No
+   request waits on a job that has ended.
 """
 
 from __future__ import annotations
@@ -193,7 +196,9 @@ class TableActor:
         """Run a client's command in turn and return the actor's answer: an `IntentAccepted`
         or `IntentDuplicate` (`Play`, answered once accepted; it is played afterwards), the
         stored `TableRecord` (seat and match commands), a `PresenceMessage` (`Heartbeat`) or
-        the `ChatMessage` sent (`QuickMessage`). ServiceError refuses it, changing nothing."""
+        the `ChatMessage` sent (`QuickMessage`). ServiceError refuses it, changing nothing;
+        any other error the command met (the storage unreachable, a bug) is raised here as
+        well as logged, so that no request waits for an answer that will never come."""
         done: asyncio.Future[object] = asyncio.get_running_loop().create_future()
 
         async def job() -> None:
@@ -201,6 +206,9 @@ class TableActor:
                 _answer(done, await self._run(command, done))
             except ServiceError as error:
                 _answer(done, error)
+            except Exception as error:  # storage down, or a bug: the asker hears of it too
+                _answer(done, error)
+                raise
 
         self._enqueue(job)
         return await done

@@ -1,6 +1,7 @@
 """Each way a match could once be stalled, over real sockets (the table actor's invariants,
 server/game/actor.py): reserved input ids, a seat that never said it was here, a quick-match
-request whose client died, a restart that lost the relay's buffers, a rematch race.
+request whose client died, a restart that lost the relay's buffers, a rematch race, a
+command that failed and left its request waiting.
 
 Each runs on one server with SQLite and on two replicas sharing a Redis (storage and relay),
 the players' requests going to both replicas in turn.
@@ -19,9 +20,12 @@ from server.game import lobby, tables
 from server.protocol.feed import GAP_TYPE
 from server.protocol.ids import QUICK_SHOT_CLOCK, BotName
 from server.protocol.models import Mode, PlayerInfo, TableCreate
-from server.storage import Storage
+from server.storage import Storage, StorageError
 from tests.service.conftest import Deploy, Player, on, register, service_of, watch
 from tests.service.test_match import picked
+
+#: How long a request may take to be answered here before the test calls it a stall.
+ANSWER_S = 10.0
 
 
 async def seated(replicas: list[TestClient], **options: Any) -> tuple[Player, Player, dict]:
@@ -217,3 +221,27 @@ async def test_a_bot_whose_search_fails_still_moves(deploy: Deploy) -> None:
     outcome = await channel.next_kind("outcome")
     assert outcome["shot_id"] == f"bot:{record.version:08d}" and outcome["seat"] == 1
     assert outcome["decision"]["fouls"] and outcome["next"]["seat"] == 0  # Ada's turn again
+
+
+async def test_a_command_that_fails_is_answered_and_the_table_goes_on(deploy: Deploy) -> None:
+    """A command that meets the storage down, or a bug, is answered (503 with its code, or
+    500) rather than left waiting on the table's actor; the table takes the next command."""
+    replicas = await deploy()
+    ada, _, view = await seated(replicas)
+    storage = service_of(replicas[0]).storage
+    working = storage.heartbeat
+    failures = iter([StorageError("the database went away"), RuntimeError("a bug")])
+
+    async def failing(table_id: str, seat: int, now: float) -> None:
+        raise next(failures)
+
+    storage.heartbeat = failing  # type: ignore[method-assign]
+    heartbeat = f"/api/tables/{view['id']}/heartbeat"
+    answered = await asyncio.wait_for(ada.call("POST", heartbeat), ANSWER_S)
+    assert answered[0] == 503 and answered[1]["code"] == "unavailable"
+    response = await asyncio.wait_for(ada.http.post(heartbeat, headers=ada.auth), ANSWER_S)
+    assert response.status == 500
+    storage.heartbeat = working  # type: ignore[method-assign]
+    await asyncio.wait_for(ada.call("POST", heartbeat, expect=200), ANSWER_S)
+    shot = await ada.shoot(view["id"], view["version"], picked(view))
+    assert shot[0] == 202
