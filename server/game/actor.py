@@ -52,7 +52,8 @@ these on both storage backends; tests/service/test_stalls.py holds each over rea
    last outcome is published; a match that ends off it (a resignation, a claim) archives the
    rack being played, its inputs so far, before the ending is stored, and the table lists the
    replay with the others (`replays`, rack by rack). A rack in which no input was played has
-   nothing to replay and no replay.
+   nothing to replay and no replay; nor has one the shot workers failed to archive (a bug,
+   logged), which would otherwise hold its table.
 8. **Every request is answered.** A client's command gets its answer, its refusal, or the
    error it met: the storage unreachable (503 `unavailable`) or a bug (500, and logged). No
    request waits on a job that has ended.
@@ -345,17 +346,24 @@ class TableActor:
 
     async def _archive_rack(
         self, record: TableRecord, last: InputEntry, result: refereeing.Refereed
-    ) -> str:
-        """Store the finished rack's replay and breaks; its replay id."""
+    ) -> str | None:
+        """Store the finished rack's replay and breaks; its replay id (None: see `_archive`)."""
         played = await self._rack_played(record) + [(last.input, result.state)]
-        return (await self._archive(record, played)).id
+        archived = await self._archive(record, played)
+        return archived.id if archived is not None else None
 
     async def _archive(
         self, record: TableRecord, played: list[tuple[refereeing.PlayerInput, State]]
-    ) -> ReplayView:
+    ) -> ReplayView | None:
         """Store the replay and breaks of the table's current rack, of these inputs played
-        (at least one), archived by the shot workers (`refereeing.rack_archive`)."""
-        archive = await self._context.pool.rack_archive(record.setup, played)
+        (at least one), archived by the shot workers (`refereeing.rack_archive`). None if the
+        workers fail to archive it: a bug there must not stop the match (nor be retried by
+        every later command), so the rack goes without its replay, and the failure is logged."""
+        try:
+            archive = await self._context.pool.rack_archive(record.setup, played)
+        except Exception:
+            log.exception("table %s: archiving rack %d failed", record.id, record.rack)
+            return None
         return await self._context.breaks.rack_played(record, archive)
 
     async def _rack_played(self, record: TableRecord) -> list[tuple[refereeing.PlayerInput, State]]:

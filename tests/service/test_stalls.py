@@ -1,7 +1,7 @@
 """Each way a match could once be stalled, over real sockets (the table actor's invariants,
 server/game/actor.py): reserved input ids, a seat that never said it was here, a quick-match
 request whose client died, a restart that lost the relay's buffers, a rematch race, a
-command that failed and left its request waiting.
+command that failed and left its request waiting, a rack the workers failed to archive.
 
 Each runs on one server with SQLite and on two replicas sharing a Redis (storage and relay),
 the players' requests going to both replicas in turn.
@@ -26,6 +26,8 @@ from tests.service.test_match import picked
 
 #: How long a request may take to be answered here before the test calls it a stall.
 ANSWER_S = 10.0
+#: More shots than the pickers take to end a nine-ball rack.
+MAX_SHOTS = 200
 
 
 async def seated(replicas: list[TestClient], **options: Any) -> tuple[Player, Player, dict]:
@@ -245,3 +247,37 @@ async def test_a_command_that_fails_is_answered_and_the_table_goes_on(deploy: De
     await asyncio.wait_for(ada.call("POST", heartbeat, expect=200), ANSWER_S)
     shot = await ada.shoot(view["id"], view["version"], picked(view))
     assert shot[0] == 202
+
+
+async def test_a_rack_the_workers_fail_to_archive_does_not_hold_its_table(
+    deploy: Deploy,
+) -> None:
+    """A bug in archiving a rack (the shot workers' replay of it) costs that rack its replay,
+    not the match: the rack's last shot is published and the match ends, and a resignation
+    after a shot ends its match too."""
+    replicas = await deploy()
+
+    async def broken(setup: Any, played: Any) -> Any:
+        raise RuntimeError("the archive fell over")
+
+    for replica in replicas:
+        service_of(replica).pool.rack_archive = broken  # type: ignore[method-assign]
+    ada, bob, view = await seated(replicas)
+    channel = await watch(replicas[0], view["channel"])
+    players = {ada.info["id"]: ada, bob.info["id"]: bob}
+    for _ in range(MAX_SHOTS):
+        if view["status"] != "playing":
+            break
+        shooter = players[view["seats"][view["next"]["seat"]]["id"]]
+        shot = await shooter.shoot(view["id"], view["version"], picked(view))
+        assert shot[0] == 202
+        outcome = await channel.next_kind("outcome")
+        _, view = await ada.call("GET", f"/api/tables/{view['id']}", expect=200)
+        assert view["version"] == outcome["version"]
+    assert view["status"] == "over" and view["replays"] == []
+
+    table = await ada.create("nineball")
+    _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+    assert (await ada.shoot(view["id"], view["version"], picked(view)))[0] == 202
+    _, over = await bob.call("POST", f"/api/tables/{view['id']}/resign", expect=200)
+    assert over["status"] == "over" and over["replays"] == []
