@@ -170,7 +170,7 @@ def bot_shoots(walk: Walk, page, server) -> bool:
                 strike_with_keys(page, hold_ms=1200)
             wait_explained(
                 page,
-                server,
+                api,
                 table,
                 "(v) => window.billiards.version > v || window.billiards.botAims() >= 1",
                 view["version"],
@@ -180,12 +180,12 @@ def bot_shoots(walk: Walk, page, server) -> bool:
             page.wait_for_timeout(100)
     walk.shot(page, "bot-lining-up", settle=False)  # (during the bot's pause before its stroke)
     version = page.evaluate("window.billiards.version")
-    wait_explained(page, server, table, "(v) => window.billiards.version > v", version)
+    wait_explained(page, api, table, "(v) => window.billiards.version > v", version)
     walk.shot(page, "bot-after-its-shot")
     return True
 
 
-def wait_explained(page, server, table: str, condition: str, version: int) -> None:
+def wait_explained(page, api: Api, table: str, condition: str, version: int) -> None:
     """Wait (at most STALL_S) for `condition` of the page's version; if it never holds, fail
     with what the page showed, what the server held and the end of its log, so that a stall
     says where it was."""
@@ -199,8 +199,8 @@ def wait_explained(page, server, table: str, condition: str, version: int) -> No
                 version: window.billiards.version, sending: window.billiards.sending,
                 drawn: window.billiards.drawn(), botAims: window.billiards.botAims()})"""
         )
-        held = Api(page, server).table(table)
-        log = (server.directory / "server.log").read_text(errors="replace")[-4000:]
+        held = api.table(table)
+        log = (api.server.directory / "server.log").read_text(errors="replace")[-4000:]
         raise AssertionError(
             f"the page stalled after version {version}: it shows {shown}; the server holds "
             f"version {held['version']}, next {held['next']}, status {held['status']}; "
