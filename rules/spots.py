@@ -135,6 +135,34 @@ def in_region(p: Point, region: str, table: Table) -> bool:
     raise ValueError(f"unknown region {region!r}")
 
 
+def _region_box(region: str, table: Table) -> tuple[float, float, float, float]:
+    """x0, x1, y0, y1 of a rectangle holding every point of a ball-in-hand region."""
+    R = table.R
+    if region == "D":
+        cx = table.width / 2
+        return cx - D_RADIUS, cx + D_RADIUS, BAULK_Y - D_RADIUS, BAULK_Y
+    top = table.head_string if region == "kitchen" else table.length - R
+    return R, table.width - R, R, top
+
+
+def free_place(region: str, balls: Mapping[str, Point], table: Table) -> Point | None:
+    """A point of the ball-in-hand `region` where a ball may be placed among `balls`: the
+    first free one of a coarse grid over the table (a few dozen points, tried first), else of
+    a grid of R/2 steps over the region, so that a crowded region (a set-up position's balls
+    heaped in the D) still finds a gap a ball fits in; None when neither grid has one."""
+    coarse = [
+        (table.width * i / 8, table.length * j / 32) for j in range(1, 32) for i in range(1, 8)
+    ]
+    x0, x1, y0, y1 = _region_box(region, table)
+    step = table.R / 2
+    nx, ny = int((x1 - x0) / step) + 1, int((y1 - y0) / step) + 1
+    fine = ((x0 + i * step, y0 + j * step) for j in range(ny) for i in range(nx))
+    for p in (*coarse, *fine):
+        if in_region(p, region, table) and is_free(p, balls, table.R):
+            return p
+    return None
+
+
 def nearest_free_on_ray(
     start: Point, direction: Point, balls: Mapping[str, Point], table: Table
 ) -> Point | None:

@@ -29,18 +29,34 @@ log = logging.getLogger(__name__)
 
 #: Seconds between two looks for tables whose clock ran out.
 TICK = 0.5
-#: Most tables ruled per look.
+#: Most tables ruled per look (besides those waiting to be told again, below).
 BATCH = 200
+#: Longest wait (s) before a table still due is told again. A table is told at once when it
+#: falls due, then after TICK, 2 TICK, 4 TICK ... while it stays due: one whose clock input
+#: fails (a bug) costs a look now and then, and the oldest deadlines, which `due_tables`
+#: answers first, cannot hide the others' (before, 200 such tables stopped every clock).
+RETRY_MAX = 60.0
 
 
 def running_clock(storage: Storage, matches: Matches) -> AbstractAsyncContextManager[None]:
     """Rule expired shot clocks while the context is open."""
 
     async def tick() -> None:
+        retry: dict[str, tuple[float, int]] = {}  # a due table: not told before, times told
         while True:
             try:
-                for table_id in await storage.due_tables(time.time(), BATCH):
-                    matches.owner(table_id).tell(ClockExpiry())
+                now = time.time()
+                waiting = sum(1 for at, _ in retry.values() if at > now)
+                due = await storage.due_tables(now, BATCH + waiting)
+                retry = {table_id: retry[table_id] for table_id in due if table_id in retry}
+                for table_id in due:
+                    at, told = retry.get(table_id, (0.0, 0))
+                    if at <= now:
+                        retry[table_id] = (
+                            now + min(RETRY_MAX, TICK * 2 ** min(told, 16)),
+                            told + 1,
+                        )
+                        matches.owner(table_id).tell(ClockExpiry())
             except Exception:  # storage trouble: the next tick tries again
                 log.exception("shot clock tick failed")
             await asyncio.sleep(TICK)

@@ -28,7 +28,7 @@ from rules.racks import Game as GameName
 from rules.record import GameRecord, replay
 from rules.referee import allowed, table_of
 from rules.referee import referee as referee_of
-from rules.spots import STANDARD_SIZE, Point, in_region, is_free
+from rules.spots import STANDARD_SIZE, Point, free_place
 from rules.state import Decision, Region, State
 from rules.three_cushion import DEFAULT_TARGET
 from server.game import visits
@@ -269,9 +269,10 @@ def timeout_input(state: State) -> PlayerInput:
     """What the server plays for a player whose shot clock ran out (see server/game/clock.py).
 
     A pending choice takes the first option offered; otherwise a dead-slow stroke of the cue
-    ball straight away from the nearest ball (placed first, on the first free point of a grid
-    over the region, if it is in hand off the table), which the referee rules as a shot that
-    hit no ball: a foul in pool and snooker, no point and the turn over in three-cushion.
+    ball straight away from the nearest ball (placed first, where `rules.spots.free_place`
+    finds room in the region, if it is in hand off the table), which the referee rules as a
+    shot that hit no ball: a foul in pool and snooker, no point and the turn over in
+    three-cushion.
     """
     if state.pending:
         return Choice(option=state.pending[0])
@@ -280,17 +281,15 @@ def timeout_input(state: State) -> PlayerInput:
     others = {ball: p for ball, p in state.balls.items() if ball != cue}
     at, place = state.balls.get(cue), None
     if at is None:
-        grid = [
-            (table.width * i / 8, table.length * j / 32) for j in range(1, 32) for i in range(1, 8)
-        ]
-        region = state.ball_in_hand or "anywhere"
-        at = place = next(
-            p for p in grid if in_region(p, region, table) and is_free(p, others, table.R)
-        )
+        place = free_place(state.ball_in_hand or "anywhere", others, table)
+        if place is None:  # a set-up position leaves room (rules.positions); play cannot fill it
+            raise RuleError(Refusal.PLACE_BLOCKED, "no room to place the cue ball in hand")
+        at = place
     nearest = min(others.values(), key=lambda p: math.dist(p, at))
     heading = math.degrees(math.atan2(at[1] - nearest[1], at[0] - nearest[0])) % 360.0
     strike = {"ball": cue, "speed": TIMEOUT_SPEED, "heading": round(heading, 4)}
-    return accept({"strike": strike, "place": place})
+    calls = referee_.options(state).call  # eight-ball on the 8: a pocket must be called
+    return accept({"strike": strike, "place": place, "call": calls[0] if calls else None})
 
 
 def rack_record(setup: Setup, played: list[tuple[PlayerInput, State]]) -> GameRecord:
