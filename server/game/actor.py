@@ -46,8 +46,11 @@ these on both storage backends; tests/service/test_stalls.py holds each over rea
    on a table's channel carries the table version, so a client can tell it is behind.
 6. **Bounded work.** A bot searches at most once per table version in a process, started
    only by a change of the table or a seated player's heartbeat; a read (`GET`) starts no
-   work at all. Inputs are played at most once (storage invariants 3-4). A bot whose search
-   fails still moves (the clock's input), so its opponent is never held by it.
+   work at all. Searches run on workers of their own, so a match's shot never queues
+   behind one, and one player's bot tables search one at a time (`Turns`), so a player with
+   many holds one of those workers, not all. Inputs are played at most once (storage
+   invariants 3-4). A bot whose search fails still moves (the clock's input), so its
+   opponent is never held by it.
 7. **Every rack played has its replay.** A rack that ends on the table is archived before its
    last outcome is published; a match that ends off it (a resignation, a claim) archives the
    rack being played, its inputs so far, before the ending is stored, and the table lists the
@@ -66,7 +69,8 @@ import logging
 import secrets
 import time
 from collections import OrderedDict, deque
-from collections.abc import Awaitable, Callable
+from collections.abc import AsyncIterator, Awaitable, Callable
+from contextlib import asynccontextmanager
 from dataclasses import dataclass, field
 
 from server.game import commands, ratings, refereeing, tables
@@ -95,6 +99,7 @@ from server.protocol.models import (
     Status,
     TableMessage,
 )
+from server.relay import RateLimiter
 from server.storage import AcceptResult, RateResult, Storage
 
 log = logging.getLogger(__name__)
@@ -116,22 +121,54 @@ AfterStore = Callable[[TableRecord], Awaitable[None]]
 BeforeStore = Callable[[TableRecord, TableRecord], Awaitable[TableRecord]]
 
 
+class Turns:
+    """One at a time per holder: `async with turns.of(holder)` waits while another job of the
+    same holder is inside (a lock per holder, forgotten when nobody holds or awaits it)."""
+
+    def __init__(self) -> None:
+        self._locks: dict[str, tuple[asyncio.Lock, int]] = {}
+
+    @asynccontextmanager
+    async def of(self, holder: str) -> AsyncIterator[None]:
+        lock, users = self._locks.get(holder, (asyncio.Lock(), 0))
+        self._locks[holder] = (lock, users + 1)
+        try:
+            async with lock:
+                yield
+        finally:
+            lock, users = self._locks[holder]
+            if users == 1:
+                del self._locks[holder]
+            else:
+                self._locks[holder] = (lock, users - 1)
+
+    def __len__(self) -> int:
+        return len(self._locks)
+
+
 @dataclass
 class MatchContext:
     """What every table actor of a process shares."""
 
     storage: Storage
     pool: WorkerPool
+    #: The bots' own workers: a search never holds a worker a match's shot is waiting for.
+    bots: WorkerPool
     publisher: Publisher
     on_listing_change: Callable[[], None]
     replica: str
     breaks: Breaks
+    #: Practice shots per player (server/game/service.py, LIMITS): the one table where the
+    #: player is always the one to act.
+    practice: RateLimiter
     #: Seconds a disconnected player may stay away before the opponent may claim the win.
     grace: float = GRACE
     #: The presence each table last announced from this process (to announce changes once).
     presence: dict[str, PresenceMessage] = field(default_factory=dict)
     #: The table version each table's bot last searched at in this process (invariant 6).
     searched: OrderedDict[str, int] = field(default_factory=OrderedDict)
+    #: One search at a time for the bot tables of one player (invariant 6).
+    bot_turns: Turns = field(default_factory=lambda: Turns())
 
 
 def _answer(request: asyncio.Future, result: object) -> None:
@@ -144,6 +181,13 @@ def _answer(request: asyncio.Future, result: object) -> None:
         request.set_exception(result)
     else:
         request.set_result(result)
+
+
+def take(limiter: RateLimiter, key: str) -> None:
+    """Take one request of `key` from `limiter`; RATE_LIMITED (with the wait) if it has none."""
+    wait = limiter.allow(key)
+    if wait > 0:
+        raise ServiceError(ErrorCode.RATE_LIMITED, f"too many requests: retry in {wait:.1f} s")
 
 
 def duplicate(entry: InputEntry) -> IntentDuplicate:
@@ -305,6 +349,8 @@ class TableActor:
         """The record with the input accepted, its first answer if it is a resend, or None
         if another replica changed the table meanwhile. ServiceError for a refusal."""
         storage = self._context.storage
+        if record.mode is Mode.PRACTICE and move.on_time:  # a client's shot, not the clock's
+            take(self._context.practice, move.player.id)
         try:
             entry = validate(record, move, self._context.replica)
             if move.on_time and record.deadline is not None and time.time() > record.deadline:
@@ -312,14 +358,21 @@ class TableActor:
         except ServiceError:
             # A resend (its version has passed) is answered with its first outcome; only a
             # refused input needs the look-up: `accept` itself refuses a shot id played before.
+            # Only its sender's seat hears it: to anyone else the refusal stands.
             seen = await storage.find_input(record.id, move.shot_id)
-            if seen is not None:
+            if seen is not None and seen.seat == tables.seat_of(record, move.player.id):
                 return duplicate(seen)
             raise
         accepted = record.model_copy(update={"pending": entry})
         result = await storage.accept(accepted)
         if result.result is AcceptResult.DUPLICATE:
-            return duplicate(result.entry)
+            first = result.entry
+            assert first is not None
+            if first.seat != entry.seat:
+                raise ServiceError(
+                    ErrorCode.DUPLICATE, "that shot id is the other seat's input: send a new one"
+                )
+            return duplicate(first)
         if result.result is AcceptResult.CONFLICT:
             return None
         return accepted
@@ -546,7 +599,10 @@ class TableActor:
         while len(searched) > SEARCHES_KEPT:
             searched.popitem(last=False)
         try:
-            action = await self._context.pool.bot_input(record.state, tables.chooser_of(occupant))
+            async with self._context.bot_turns.of(tables.holder(record)):
+                action = await self._context.bots.bot_input(
+                    record.state, tables.chooser_of(occupant)
+                )
         except Exception:  # a bug in the bot must not stop the match: it plays the clock's input
             log.exception("table %s: the bot's search failed", record.id)
             action = refereeing.timeout_input(record.state)

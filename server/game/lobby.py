@@ -52,7 +52,8 @@ BATCH = 0.7
 LISTED = 100
 #: Seconds between snapshots while nothing changes (who is online still does).
 REFRESH = 10.0
-#: Open public tables (waiting for an opponent) one player may have at once, and show.
+#: Open public tables (waiting for an opponent) one player may have at once; and of the tables
+#: a player sits at alone (open, practice, against the bot), how many the lobby shows.
 OPEN_PER_PLAYER = 3
 #: Listed tables read to choose a snapshot's: enough that floods cannot hide the others'.
 SCANNED = 4 * LISTED
@@ -91,16 +92,24 @@ def creator(record: TableRecord) -> str | None:
     return next((seat.id for seat in record.seats if seat is not None), None)
 
 
+def alone(record: TableRecord) -> str | None:
+    """The one person at a table no other person sits at (open, practice, against the bot):
+    whoever makes such a table makes it alone, as many as the create limit lets them."""
+    people = [seat.id for seat in record.seats if seat is not None and not tables.is_bot(seat)]
+    return people[0] if len(people) == 1 else None
+
+
 def fair_share(listed: list[TableRecord]) -> list[TableRecord]:
-    """The tables a snapshot shows: the newest first, at most `LISTED`, and of one player's
-    open tables at most `OPEN_PER_PLAYER` (the newest), so that nobody's tables push the
-    others' out of the lobby."""
+    """The tables a snapshot shows: the newest first, at most `LISTED`, and of the tables one
+    player sits at alone (open, practice, against the bot) at most `OPEN_PER_PLAYER` (the
+    newest), so that nobody's tables push the others' out of the lobby (before, 100 practice
+    tables of one player did)."""
     shown: list[TableRecord] = []
-    open_tables: Counter[str] = Counter()
+    held: Counter[str] = Counter()
     for record in listed:
-        if (who := creator(record)) is not None:
-            open_tables[who] += 1
-            if open_tables[who] > OPEN_PER_PLAYER:
+        if (who := alone(record)) is not None:
+            held[who] += 1
+            if held[who] > OPEN_PER_PLAYER:
                 continue
         shown.append(record)
         if len(shown) == LISTED:

@@ -23,7 +23,9 @@ guarantees:
    worker time per minute spent on replays it asked for and that were not kept (429 with the
    wait once spent, before any work: server/game/budget.py); a kept page costs nothing.
 4. Pages are kept in a least-recently-used cache of at most `CACHE_BYTES` bytes per process (a
-   replay never changes, so a page never goes stale); one replay computes all its pages at once.
+   replay never changes, so a page never goes stale); one replay computes all its pages at
+   once and keeps at most `REPLAY_SHARE` of the cache: the page asked for and those after it
+   first, so that a reader reading on finds them kept.
 """
 
 from __future__ import annotations
@@ -51,6 +53,9 @@ MAX_REPLAYING = 1
 #: Bytes of pages kept per process (a nine-ball rack's is some 100 KB, a snooker frame's a
 #: few MB).
 CACHE_BYTES = 32 * 1024 * 1024
+#: The most of the cache one replay's pages take (a long snooker frame's are more than all of
+#: it: kept whole, its last pages evicted its first and every other replay's).
+REPLAY_SHARE = 0.5
 #: Seconds of worker time per minute one client address may spend on replays not kept.
 REPLAY_SECONDS = 10.0
 
@@ -129,15 +134,28 @@ class ReplayShotsCache:
         self._running: dict[str, asyncio.Task[list[bytes]]] = {}
         self.budget = WorkBudget(REPLAY_SECONDS, "your replays")
 
-    def _keep(self, replay_id: str, pages: list[bytes]) -> None:
-        for page, answer in enumerate(pages):
-            if len(answer) <= CACHE_BYTES:
-                self._kept[(replay_id, page)] = answer
-                self._kept_bytes += len(answer)
+    def _keep(self, replay_id: str, pages: list[bytes], asked: int) -> None:
+        """Keep the pages of a replay computed for page `asked`: that page and those after it
+        (a reader reads on), then those before, as many as fit in REPLAY_SHARE of the cache,
+        the asked one the most recently used."""
+        room, chosen = CACHE_BYTES * REPLAY_SHARE, []
+        for page in (*range(asked, len(pages)), *range(asked)):
+            room -= len(pages[page])
+            if room < 0:
+                break
+            chosen.append(page)
+        for page in reversed(chosen):
+            old = self._kept.pop((replay_id, page), None)  # kept before: counted once
+            if old is not None:
+                self._kept_bytes -= len(old)
+            self._kept[(replay_id, page)] = pages[page]
+            self._kept_bytes += len(pages[page])
         while self._kept_bytes > CACHE_BYTES:
             self._kept_bytes -= len(self._kept.popitem(last=False)[1])
 
-    async def _compute(self, replay_id: str, record: GameRecord, asker: str) -> list[bytes]:
+    async def _compute(
+        self, replay_id: str, record: GameRecord, asked: int, asker: str
+    ) -> list[bytes]:
         began = self.budget.clock()
         try:
             pages = await self._pool.replay_shots(replay_id, record)
@@ -146,7 +164,7 @@ class ReplayShotsCache:
         finally:
             del self._running[replay_id]
             self.budget.charge(self.budget.clock() - began, asker)
-        self._keep(replay_id, pages)
+        self._keep(replay_id, pages, asked)
         return pages
 
     def _kept_page(self, replay_id: str, page: int) -> bytes | None:
@@ -170,7 +188,8 @@ class ReplayShotsCache:
                 self.budget.check(asker)
                 if len(self._running) >= MAX_REPLAYING:
                     raise ServiceError(ErrorCode.RATE_LIMITED, "replays are being computed")
-                task = asyncio.ensure_future(self._compute(replay_id, replay.record, asker))
+                computing = self._compute(replay_id, replay.record, page, asker)
+                task = asyncio.ensure_future(computing)
                 self._running[replay_id] = task
         # Shielded: a client that goes away does not cancel the others' computation.
         pages = await asyncio.shield(self._running[replay_id])

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 from aiohttp import web
 
-from server.game.actor import MatchContext, Matches, new_replica_id
+from server.game.actor import MatchContext, Matches, new_replica_id, take
 from server.game.challenges import Challenges
 from server.game.clock import running_clock
 from server.game.diagrams import DiagramWork
@@ -24,7 +24,6 @@ from server.game.publisher import Publisher
 from server.game.replays import ReplayShotsCache
 from server.game.tables import GRACE
 from server.game.workers import WorkerPool, default_workers
-from server.protocol.errors import ErrorCode, ServiceError
 from server.relay import RateLimiter, Relay
 from server.storage import Storage
 
@@ -39,8 +38,11 @@ NAMES_PER_ADDRESS = 50
 #: heartbeats per player, quick messages per player and table (one per 2 s), aims per player
 #: and table (the web client sends one no sooner than 250 ms after the answer to the last, so
 #: that no delay on the way brings two closer than the 200 ms allowed), leaderboard claims per
-#: player (their worker time is bounded apart, server/game/budget.py). Intents need none: only
-#: the player to act may send one, and it waits for the previous outcome.
+#: player (their worker time is bounded apart, server/game/budget.py), and a practice table's
+#: shots, re-racks and retakes per player (far above anyone's practice: each is stored, and a
+#: rack's end archives a replay; before, one player stored 190 shots a second). A match's
+#: intents need none: only the player to act may send one, and it waits for the previous
+#: outcome, which the opponent's shot comes before.
 LIMITS: dict[str, tuple[float, int]] = {
     "register": (NAMES_PER_ADDRESS / ONLINE, NAMES_PER_ADDRESS),
     "create": (1.0, 20),
@@ -50,6 +52,7 @@ LIMITS: dict[str, tuple[float, int]] = {
     "aim": (5.0, 1),
     "heartbeat": (2.0, 10),
     "claim": (0.5, 10),
+    "practice": (5.0, 100),
 }
 
 #: How much lower than the server the background worker runs: claims, replays' shots and the
@@ -63,6 +66,7 @@ BACKGROUND_NICE = 10
 class Service:
     storage: Storage
     pool: WorkerPool
+    bots: WorkerPool
     publisher: Publisher
     identity: Identity
     breaks: Breaks
@@ -78,9 +82,7 @@ class Service:
 
     def throttle(self, kind: str, key: str) -> None:
         """Take one `kind` request for `key` from its bucket; RATE_LIMITED if it is empty."""
-        wait = self.limits[kind].allow(key)
-        if wait > 0:
-            raise ServiceError(ErrorCode.RATE_LIMITED, f"too many requests: retry in {wait:.1f} s")
+        take(self.limits[kind], key)
 
 
 async def open_storage(database: str | None, redis_url: str | None) -> Storage:
@@ -105,16 +107,29 @@ async def running_service(
     """The service, its storage open, worker pool started and lobby publishing, until exit."""
     storage = await open_storage(database, redis_url)
     pool = WorkerPool(workers or default_workers())
+    # The bots' searches (up to a second of a worker each) have workers of their own, so that
+    # a match's shot never queues behind them (server/game/actor.py, invariant 6).
+    bots = WorkerPool(workers or default_workers())
     background = WorkerPool(1, nice=BACKGROUND_NICE)
     publisher = Publisher(relay)
     lobby = Lobby(storage, publisher)
     breaks = Breaks(storage, background, publisher)
+    limits = {kind: RateLimiter(*limit) for kind, limit in LIMITS.items()}
     context = MatchContext(
-        storage, pool, publisher, lobby.changed, new_replica_id(), breaks, grace=grace
+        storage,
+        pool,
+        bots,
+        publisher,
+        lobby.changed,
+        new_replica_id(),
+        breaks,
+        practice=limits["practice"],
+        grace=grace,
     )
     service = Service(
         storage=storage,
         pool=pool,
+        bots=bots,
         publisher=publisher,
         identity=Identity(relay.authority, storage),
         breaks=breaks,
@@ -123,6 +138,7 @@ async def running_service(
         matches=Matches(context),
         replay_shots=ReplayShotsCache(storage, background),
         diagrams=DiagramWork(background),
+        limits=limits,
     )
     service.limits["register"] = RateLimiter(names_per_address / ONLINE, names_per_address)
     try:
@@ -135,6 +151,7 @@ async def running_service(
             await service.matches.idle()
     finally:
         pool.close()
+        bots.close()
         background.close()
         await storage.close()
 

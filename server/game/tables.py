@@ -144,6 +144,13 @@ def has_bot(record: TableRecord) -> bool:
     return any(seat is not None and is_bot(seat) for seat in record.seats)
 
 
+def holder(record: TableRecord) -> str:
+    """Whom a bot table's work is counted against: its player of flesh (the table itself if
+    it has none seated)."""
+    people = [seat.id for seat in record.seats if seat is not None and not is_bot(seat)]
+    return people[0] if people else record.id
+
+
 def chooser_of(bot: PlayerInfo) -> str:
     """The chooser name (`rules.bot.chooser`) of a bot player made by `bot_player`."""
     return bot.id.removeprefix("bot:")

@@ -9,6 +9,7 @@ over-deep nesting are refused there); every refusal is `ApiError` JSON.
 
 from __future__ import annotations
 
+import asyncio
 import json
 import math
 from collections.abc import AsyncIterator, Awaitable, Callable
@@ -28,7 +29,7 @@ from server.game.service import NAMES_PER_ADDRESS, SERVICE_KEY, Service, running
 from server.game.tables import GRACE, TableRecord
 from server.protocol import ids
 from server.protocol.errors import ErrorCode, ServiceError
-from server.protocol.ids import MAX_BODY, MAX_RECORD_BODY, new_table_id
+from server.protocol.ids import BODY_SECONDS, MAX_BODY, MAX_RECORD_BODY, new_table_id
 from server.protocol.models import (
     AimMessage,
     AimRequest,
@@ -118,14 +119,23 @@ async def parse(request: web.Request, model: type[M], limit: int = MAX_BODY) -> 
 
 
 async def read_body(request: web.Request, limit: int = MAX_BODY) -> bytes:
-    """The request's JSON body, at most `limit` bytes; ServiceError for anything else."""
+    """The request's JSON body, at most `limit` bytes, all of it within BODY_SECONDS;
+    ServiceError for anything else."""
     if media_type(request.content_type) != JSON:
         raise ServiceError(ErrorCode.UNSUPPORTED_MEDIA_TYPE, "send application/json")
     data = bytearray()
-    while chunk := await request.content.read(limit + 1 - len(data)):
-        data += chunk
-        if len(data) > limit:
-            raise ServiceError(ErrorCode.BODY_TOO_LARGE, f"bodies here are at most {limit} bytes")
+    try:
+        async with asyncio.timeout(BODY_SECONDS):
+            while chunk := await request.content.read(limit + 1 - len(data)):
+                data += chunk
+                if len(data) > limit:
+                    raise ServiceError(
+                        ErrorCode.BODY_TOO_LARGE, f"bodies here are at most {limit} bytes"
+                    )
+    except TimeoutError:
+        raise ServiceError(
+            ErrorCode.REQUEST_TIMEOUT, f"the body did not arrive within {BODY_SECONDS:g} s"
+        ) from None
     return bytes(data)
 
 
@@ -257,10 +267,15 @@ async def _ask(request: web.Request, command: commands.ClientCommand) -> object:
 
 
 async def _seat_command(
-    request: web.Request, make: Callable[[PlayerInfo], commands.ClientCommand]
+    request: web.Request,
+    make: Callable[[PlayerInfo], commands.ClientCommand],
+    limit: str | None = None,
 ) -> web.Response:
-    """Join, leave, resign, claim and rematch: the command, then the table as it now is."""
+    """Join, leave, resign, claim, rematch and retake: the command (its player's `limit`
+    taken first, if it has one), then the table as it now is."""
     player = await player_of(request)
+    if limit is not None:
+        service_of(request).throttle(limit, player.id)
     after = await _ask(request, make(player))
     assert isinstance(after, TableRecord)
     return answer(await full_view(service_of(request), after))
@@ -290,13 +305,14 @@ async def rack(request: web.Request) -> web.Response:
     """Practice: the next rack, from a set-up position or the game's own rack."""
     player = await player_of(request)
     body = await parse(request, RackRequest)
+    service_of(request).throttle("practice", player.id)
     after = await _ask(request, commands.Rerack(player, body.position))
     assert isinstance(after, TableRecord)
     return answer(await full_view(service_of(request), after))
 
 
 async def retake(request: web.Request) -> web.Response:
-    return await _seat_command(request, commands.Retake)
+    return await _seat_command(request, commands.Retake, limit="practice")
 
 
 # ----- shared positions -------------------------------------------------------------------------
@@ -390,6 +406,9 @@ async def claim_break(request: web.Request) -> web.Response:
     data = await read_body(request, MAX_RECORD_BODY)
     service.breaks.refused_before(data)
     budget = service.breaks.budget
+    # Again, now that the body is in: claims read at once all passed the first check before
+    # any of their parses was charged (before, 100 of them from one address took 12 s).
+    budget.check(player.id, address)
     began = budget.clock()
     try:  # parsing a long record takes the event loop tens of ms: the holder's time too
         claim = parse_body(data, ClaimRequest)
@@ -498,7 +517,7 @@ ROUTES: tuple[Route, ...] = (
     Route("POST", f"{_T}/intents", intent, "Send a shot or a choice",
           {202: IntentAccepted, 200: IntentDuplicate}, Intent,
           refusals=(*_TABLE_REFUSALS, ErrorCode.NOT_YOUR_TURN, ErrorCode.STALE_VERSION,
-                    ErrorCode.ILLEGAL_INPUT)),
+                    ErrorCode.ILLEGAL_INPUT, ErrorCode.DUPLICATE, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/resign", resign, "Resign the match", {200: TableView},
           refusals=_TABLE_REFUSALS),
     Route("POST", f"{_T}/claim", claim, "Claim the win from an absent opponent",
@@ -506,9 +525,10 @@ ROUTES: tuple[Route, ...] = (
     Route("POST", f"{_T}/rematch", rematch, "Offer or accept a rematch", {200: TableView},
           refusals=_TABLE_REFUSALS),
     Route("POST", f"{_T}/rack", rack, "Practice: re-rack, or set up a position",
-          {200: TableView}, RackRequest, refusals=(*_TABLE_REFUSALS, ErrorCode.BAD_POSITION)),
+          {200: TableView}, RackRequest,
+          refusals=(*_TABLE_REFUSALS, ErrorCode.BAD_POSITION, ErrorCode.RATE_LIMITED)),
     Route("POST", f"{_T}/retake", retake, "Practice: take the last shot again",
-          {200: TableView}, refusals=_TABLE_REFUSALS),
+          {200: TableView}, refusals=(*_TABLE_REFUSALS, ErrorCode.RATE_LIMITED)),
     Route("POST", "/api/positions", share_position, "A set-up position's share link",
           {200: SharedPosition}, PositionShare, auth=False,
           refusals=(ErrorCode.BAD_POSITION, ErrorCode.BAD_REQUEST)),
@@ -622,7 +642,10 @@ def mount_api(
     """Add the `/api/` routes, their error handling and the service's lifetime to `app`
     (after every other route: the last one takes what no route under /api/ took)."""
     for route in ROUTES:
-        app.router.add_route(route.method, route.path, refusing(route.handler))
+        if route.method == "GET":  # and HEAD, as HTTP asks of every GET
+            app.router.add_get(route.path, refusing(route.handler))
+        else:
+            app.router.add_route(route.method, route.path, refusing(route.handler))
     app.router.add_get("/api/openapi.json", _openapi)
     app.router.add_route("*", r"/api/{path:[\s\S]*}", unrouted)
 

@@ -36,7 +36,7 @@ def _refusals(route: Route) -> dict[str, Any]:
         codes.add(ErrorCode.UNAUTHORIZED)
     if route.body is not None:
         codes |= {ErrorCode.BAD_REQUEST, ErrorCode.BODY_TOO_LARGE, ErrorCode.ILLEGAL_INPUT}
-        codes.add(ErrorCode.UNSUPPORTED_MEDIA_TYPE)
+        codes |= {ErrorCode.UNSUPPORTED_MEDIA_TYPE, ErrorCode.REQUEST_TIMEOUT}
     by_status: dict[int, list[str]] = {}
     for code in sorted(codes):
         by_status.setdefault(STATUS[code], []).append(code.value)

@@ -160,8 +160,12 @@ def page_handler(filename: str):
 async def static_file(request: web.Request) -> web.StreamResponse:
     """A built file under /static/ (never outside DIST; .gz siblings are served, not listed)."""
     name = request.match_info["path"]
-    path = (DIST / name).resolve()
-    if not path.is_relative_to(DIST) or not path.is_file() or path.suffix == ".gz":
+    try:  # a NUL byte or an over-long name is no file either, not a server error
+        path = (DIST / name).resolve()
+        found = path.is_relative_to(DIST) and path.is_file() and path.suffix != ".gz"
+    except (ValueError, OSError):
+        found = False
+    if not found:
         raise web.HTTPNotFound()
     return web.FileResponse(path, headers=NO_CACHE)
 

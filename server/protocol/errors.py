@@ -29,6 +29,7 @@ class ErrorCode(StrEnum):
     DUPLICATE = "duplicate"
     TOO_MANY_TABLES = "too_many_tables"
     RATE_LIMITED = "rate_limited"
+    REQUEST_TIMEOUT = "request_timeout"
     UNAVAILABLE = "unavailable"
 
 
@@ -52,6 +53,7 @@ STATUS: dict[ErrorCode, int] = {
     ErrorCode.DUPLICATE: 409,
     ErrorCode.TOO_MANY_TABLES: 409,
     ErrorCode.RATE_LIMITED: 429,
+    ErrorCode.REQUEST_TIMEOUT: 408,
     ErrorCode.UNAVAILABLE: 503,
 }
 

@@ -209,6 +209,9 @@ SIZED_GAMES: tuple[str, ...] = tuple(game.value for game in POOL_GAMES)
 MAX_BODY = 16 * 1024
 #: Largest claim body (bytes): a long game's record.
 MAX_RECORD_BODY = 1024 * 1024
+#: Seconds a request's body may take to arrive, all of it (a client that sends its headers
+#: and then dribbles or stops would otherwise hold its request, and a connection, forever).
+BODY_SECONDS = 10.0
 #: Shots in one answer of `GET /api/replays/{id}/shots` (a page; `?page=` asks for the next):
 #: a snooker frame's motion is tens of MB, more than one answer should carry.
 REPLAY_SHOTS_PAGE = 200

@@ -52,6 +52,26 @@ async def test_a_malformed_request_is_400_and_one_log_line(
     assert "\n" not in logged[0].getMessage() and "bad request" in logged[0].getMessage()
 
 
+async def test_a_body_that_stops_coming_is_refused_at_its_deadline(
+    server: TestClient, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A client that announces a body and sends part of it does not hold its request open:
+    `408 request_timeout` once BODY_SECONDS have passed, and nothing was created."""
+    monkeypatch.setattr("server.http.api.BODY_SECONDS", 0.3)
+    ada = await register(server, "Ada")
+    request = (
+        b"POST /api/tables HTTP/1.1\r\nHost: x\r\nConnection: close\r\n"
+        b"Content-Type: application/json\r\nAuthorization: "
+        + ada.auth["Authorization"].encode()
+        + b'\r\nContent-Length: 1000\r\n\r\n{"game":'
+    )
+    answer = await _raw(server, request)
+    assert answer.split(b" ", 2)[1] == b"408"
+    assert b'"code":"request_timeout"' in answer
+    listed = await (await server.get("/api/tables")).json()
+    assert listed["tables"] == []
+
+
 async def test_the_game_api_takes_its_token_from_the_header_alone(server: TestClient) -> None:
     ada = await register(server, "Ada")
     assert (await server.get("/api/me", headers=ada.auth)).status == 200
@@ -65,8 +85,8 @@ async def test_the_game_api_takes_its_token_from_the_header_alone(server: TestCl
     [
         ("GET", "/api/nothing-here", 404, None),
         ("GET", "/api/tables/x/y/z%0Az", 404, None),
-        ("DELETE", "/api/tables", 405, "GET,POST"),
-        ("PUT", "/api/me", 405, "GET"),
+        ("DELETE", "/api/tables", 405, "GET,HEAD,POST"),
+        ("PUT", "/api/me", 405, "GET,HEAD"),
     ],
 )
 async def test_a_request_no_api_route_takes_is_refused_as_json(
@@ -80,3 +100,18 @@ async def test_a_request_no_api_route_takes_is_refused_as_json(
     assert (await answer.json())["code"] == ("not_found" if status == 404 else "bad_request")
     elsewhere = await server.get("/nothing-here")
     assert elsewhere.status == 404 and elsewhere.content_type != "application/json"
+
+
+@pytest.mark.parametrize("path", ["/api/tables", "/api/bots", "/api/real-shots"])
+async def test_every_api_read_answers_head_as_its_get(server: TestClient, path: str) -> None:
+    """HEAD is GET without the body (HTTP asks it of every GET): same status and type."""
+    got, head = await server.get(path), await server.head(path)
+    assert (
+        (head.status, head.content_type)
+        == (got.status, got.content_type)
+        == (
+            200,
+            "application/json",
+        )
+    )
+    assert await head.read() == b""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import json
 
 from aiohttp.test_utils import TestClient
@@ -203,6 +204,40 @@ async def test_repeated_claims_are_refused_without_a_replay(server: TestClient) 
     assert (await _claim(dee, third, third_best))[:2] == (429, "rate_limited")
     assert (await _claim(dee, other, other_best))[:2] == (429, "rate_limited")  # unread
     assert breaks.replayed == replayed + 1
+
+
+async def test_claims_sent_at_once_are_parsed_within_their_holders_time(
+    server: TestClient,
+) -> None:
+    """Each parse is charged before the next claim of its holder is parsed: before, claims
+    whose bodies were all on their way passed the check made before their bodies came in, and
+    one address's hundred 850 KB claims held the event loop for 12 s."""
+    record, _ = _record(3)
+    eve = await register(server, "Eve")
+    breaks = service_of(server).breaks
+    breaks.budget = WorkBudget(1.5, "your claims", Ticks())  # a parse costs 1 s on this clock
+    sent = []
+    for score in range(1, 9):  # every body half sent, so every claim waits for the rest of it
+        body = json.dumps({"game": "eightball", "record": record, "score": score}).encode()
+        reader, writer = await asyncio.open_connection(server.host, server.port)
+        writer.write(
+            b"POST /api/leaderboard/claims HTTP/1.1\r\nHost: x\r\nConnection: close\r\n"
+            b"Content-Type: application/json\r\nAuthorization: "
+            + eve.auth["Authorization"].encode()
+            + b"\r\nContent-Length: %d\r\n\r\n" % len(body)
+            + body[:100]
+        )
+        await writer.drain()
+        sent.append((reader, writer, body[100:]))
+    await asyncio.sleep(0.5)  # (only lets the requests reach their body: nothing is timed)
+    for _, writer, rest in sent:
+        writer.write(rest)
+    codes = []
+    for reader, writer, _ in sent:
+        answer = await asyncio.wait_for(reader.read(), 30)
+        codes.append(json.loads(answer.split(b"\r\n\r\n", 1)[1])["code"])
+        writer.close()
+    assert codes.count("claim_mismatch") <= 2 and codes.count("rate_limited") >= 6, codes
 
 
 async def test_an_entry_below_a_full_top_is_neither_read_nor_announced(server: TestClient) -> None:

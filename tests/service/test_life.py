@@ -165,8 +165,7 @@ async def test_a_decided_match_between_two_people_is_rated_once(server: TestClie
 
 async def test_what_a_client_makes_the_server_store_is_rate_limited(server: TestClient) -> None:
     ada = await register(server, "Ada")
-    practice = {"game": "nineball", "mode": "practice"}  # (open tables: at most 3, test_lobby)
+    # Private tables: how many public ones the lobby shows is bounded apart (test_lobby).
+    practice = {"game": "nineball", "mode": "practice", "private": True}
     answers = [(await ada.call("POST", "/api/tables", practice))[0] for _ in range(25)]
     assert 20 <= answers.count(201) <= 21 and answers[-1] == 429  # a burst of 20, then 1/s
-    listed = await (await server.get("/api/tables")).json()
-    assert len(listed["tables"]) == answers.count(201)

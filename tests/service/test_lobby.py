@@ -11,7 +11,7 @@ from aiohttp.test_utils import TestClient
 from server.game import lobby, tables
 from server.game.lobby import BATCH, OPEN_PER_PLAYER
 from server.protocol.ids import new_table_id
-from server.protocol.models import PlayerInfo, TableCreate
+from server.protocol.models import Mode, PlayerInfo, TableCreate
 from tests.service.conftest import StartServer, Watcher, register, service_of, watch
 
 
@@ -173,3 +173,25 @@ async def test_one_player_keeps_a_few_open_tables_and_the_lobby_shows_everyones(
     assert adas["id"] in ids
     by_flooder = [t for t in listed if any(s and s["id"] == flooder.id for s in t["seats"])]
     assert len(by_flooder) == OPEN_PER_PLAYER
+
+
+@pytest.mark.parametrize("mode", ["practice", "bot"])
+async def test_one_players_tables_alone_do_not_push_the_others_out_of_the_lobby(
+    server: TestClient, mode: str
+) -> None:
+    """Before: one player's 100 public practice tables (or bot tables) left the lobby no room
+    for anyone's open table; it shows a few of each player's tables alone, the newest."""
+    ada = await register(server, "Ada")
+    adas = await ada.create("nineball")
+    storage = service_of(server).storage
+    flooder = PlayerInfo(id="p_" + "e" * 16, name="Flood")
+    made = []
+    for _ in range(120):
+        create = TableCreate(game="nineball", mode=Mode(mode))
+        record = tables.new_table(new_table_id(), create, flooder, 1)
+        await storage.create_table(record)
+        made.append(record.id)
+    listed = (await (await server.get("/api/tables")).json())["tables"]
+    assert adas["id"] in {table["id"] for table in listed}
+    by_flooder = [t["id"] for t in listed if any(s and s["id"] == flooder.id for s in t["seats"])]
+    assert len(by_flooder) == OPEN_PER_PLAYER and set(by_flooder) <= set(made)

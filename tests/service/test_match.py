@@ -80,6 +80,30 @@ async def test_a_shot_is_acknowledged_then_published_once_with_its_trajectory(
     assert replayed["version"] == fresh["version"]
 
 
+async def test_only_its_sender_hears_a_shot_id_played_before(server: TestClient) -> None:
+    """A shot id is answered with its first outcome to the seat that sent it alone: a stranger
+    resending it is refused as a stranger, and the other seat's input under it is refused
+    without being played."""
+    ada, bob, view = await seated_match(server)
+    table = view["id"]
+    ada_watch = await watch(server, view["channel"])
+    foul = refereeing.timeout_input(from_json(refereeing.State, view["state"]))  # Bob to act
+    await ada.shoot(table, view["version"], foul.model_dump(mode="json"), "ada-shot-01")
+    outcome = await ada_watch.next_kind("outcome")
+    assert outcome["next"]["seat"] == 1
+    eve = await register(server, "Eve")
+    status, body = await eve.shoot(table, outcome["version"], picked(outcome), "ada-shot-01")
+    assert (status, body["code"]) == (403, "forbidden")
+    status, body = await bob.shoot(table, view["version"], picked(view), "ada-shot-01")
+    assert (status, body["code"]) == (409, "stale_version")
+    status, body = await bob.shoot(table, outcome["version"], picked(outcome), "ada-shot-01")
+    assert (status, body["code"]) == (409, "duplicate")
+    status, body = await ada.shoot(table, view["version"], picked(view), "ada-shot-01")
+    assert status == 200 and body["outcome"] == outcome
+    after = await (await server.get(f"/api/tables/{table}")).json()
+    assert after["version"] == outcome["version"]
+
+
 async def test_out_of_turn_stale_and_foreign_intents_are_refused_and_change_nothing(
     server: TestClient,
 ) -> None:

@@ -198,6 +198,39 @@ async def test_replays_are_computed_one_at_a_time_and_kept(storage: Storage) -> 
     assert pool.calls == [first, second]
 
 
+class SizedPool:
+    """A stand-in for the worker pool whose replays are `pages` pages of 100 bytes."""
+
+    def __init__(self, pages: int) -> None:
+        self.pages = pages
+        self.calls = 0
+
+    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
+        self.calls += 1
+        return [b"%03d" % page + b"x" * 97 for page in range(self.pages)]
+
+
+async def test_a_replay_longer_than_the_cache_is_read_through_with_few_computations(
+    storage: Storage, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Before: a replay whose pages outgrew the cache evicted its own first pages as it kept
+    its last ones, so a reader reading on recomputed it at nearly every page, and pages kept
+    again were counted twice, leaving the cache too full ever after to keep anything."""
+    monkeypatch.setattr(replays, "REPLAY_SHOTS_PAGE", 1)  # a page an input
+    monkeypatch.setattr(replays, "CACHE_BYTES", 600)  # 6 pages; a replay may keep 3
+    record, _ = _record(2)
+    pages = len(record["inputs"])
+    assert pages > 6  # more than the cache holds
+    await storage.add_replay(_replay_view("e" * 24, record))
+    pool = SizedPool(pages)
+    cache = ReplayShotsCache(storage, pool)  # type: ignore[arg-type]
+    for reading in range(3):
+        for page in range(pages):
+            assert (await cache.shots("e" * 24, page))[:3] == b"%03d" % page
+        assert pool.calls == -(-pages // 3) * (reading + 1)  # three pages a computation
+    assert cache._kept_bytes == sum(map(len, cache._kept.values())) <= 600
+
+
 async def test_a_record_that_does_not_replay_is_refused(storage: Storage) -> None:
     record, _ = _record(2)
     record["engine"] = "0"  # stored by an older server

@@ -84,7 +84,7 @@ async def test_reads_start_no_bot_search_and_a_version_is_searched_once(deploy: 
     replicas = await deploy()
     searches: list[int] = []
     for replica in replicas:
-        pool = service_of(replica).pool
+        pool = service_of(replica).bots
         search = pool.bot_input
 
         async def counted(state: Any, bot: str, search: Any = search) -> Any:
@@ -212,7 +212,7 @@ async def test_a_bot_whose_search_fails_still_moves(deploy: Deploy) -> None:
         raise RuntimeError("the search fell over")
 
     for replica in replicas:
-        service_of(replica).pool.bot_input = broken  # type: ignore[method-assign]
+        service_of(replica).bots.bot_input = broken  # type: ignore[method-assign]
     ada = await register(replicas[0], "Ada")
     create = TableCreate(game="nineball", mode=Mode.BOT, bot=BotName.LEVEL_1)
     record = tables.new_table("c" * 20, create, PlayerInfo(**ada.info), seed=5)

@@ -61,7 +61,14 @@ async def test_files_are_served_gzipped_when_accepted(client, dist):
 
 
 @pytest.mark.parametrize(
-    "path", ["/static/../pyproject.toml", "/static/%2e%2e/x", "/static/nothing.js"]
+    "path",
+    [
+        "/static/../pyproject.toml",
+        "/static/%2e%2e/x",
+        "/static/nothing.js",
+        "/static/a%00b",  # no file name holds a NUL byte
+        "/static/" + "x" * 300,  # nor is longer than the file system allows
+    ],
 )
 async def test_nothing_outside_the_build_is_served(client, dist, path):
     assert (await client.get(path)).status == 404
