@@ -32,10 +32,13 @@ these on both storage backends; tests/service/test_stalls.py holds each over rea
 1. **The clock acts.** A table whose seat to act has a deadline gets an input for that seat
    at the deadline (`ClockExpiry`, the input `clock:<version>`), whatever any client sent:
    server inputs carry ids no client can send (server/game/commands.py), so a client's shot id
-   can never be taken for one of them.
+   can never be taken for one of them. Only while someone is at the table: one that all its
+   players have left is not played on for ever (its clock waits, and acts as soon as one of
+   them is back), so it idles until it expires.
 2. **Absence can be claimed.** A seat that left, or never sent a heartbeat at all, is absent
    `PRESENCE_TIMEOUT` after it was last seen (or after the match started) and claimable by
-   its opponent `grace` seconds later (server/game/tables.py, `last_seen`).
+   its opponent `grace` seconds later (server/game/tables.py, `last_seen`). A heartbeat
+   counts as no older than this process (`MatchContext.seen`): an outage is nobody's absence.
 3. **Quick requests lapse.** A quick-match request lapses when its client stops asking or
    polling (server/game/lobby.py, storage invariant 11), and a quick match has a shot clock.
 4. **One rematch.** A finished match has at most one rematch table, however many offers and
@@ -169,6 +172,18 @@ class MatchContext:
     searched: OrderedDict[str, int] = field(default_factory=OrderedDict)
     #: One search at a time for the bot tables of one player (invariant 6).
     bot_turns: Turns = field(default_factory=lambda: Turns())
+    #: When this process started: nobody's absence is counted from before it (invariant 2).
+    up_since: float = field(default_factory=time.time)
+
+    async def seen(self, table_id: str) -> tables.Seen:
+        """Each seat's last heartbeat, as presence and claims count it: none earlier than
+        `up_since`, so that the time the server was down is nobody's absence (before, the
+        first player back after an outage longer than the grace claimed a rated win)."""
+        last = await self.storage.heartbeats(table_id)
+        return (
+            None if last[0] is None else max(last[0], self.up_since),
+            None if last[1] is None else max(last[1], self.up_since),
+        )
 
 
 def _answer(request: asyncio.Future, result: object) -> None:
@@ -285,7 +300,7 @@ class TableActor:
                 return await self._claim(player)
             case commands.Rematch(player):
                 return await self._change(
-                    lambda r: tables.offer_rematch(r, player), self._ensure_rematch
+                    lambda r: tables.offer_rematch(r, player, time.time()), self._ensure_rematch
                 )
             case commands.Rerack(player, position):
                 return await self._change(lambda r: tables.rerack(r, player, position))
@@ -480,7 +495,7 @@ class TableActor:
             raise ServiceError(ErrorCode.UNAVAILABLE, "the table is busy: try again")
         if after_store is not None:
             await after_store(after)
-        seen = await self._context.storage.heartbeats(after.id)
+        seen = await self._context.seen(after.id)
         message = TableMessage(version=after.version, view=tables.view(after, seen))
         await self._context.publisher.publish(after.channel, message)
         await self._status_changed(record, after)
@@ -489,7 +504,7 @@ class TableActor:
 
     async def _claim(self, player: PlayerInfo) -> TableRecord:
         """The win for `player` if the opponent is absent past grace (read fresh, in turn)."""
-        seen = await self._context.storage.heartbeats(self.table_id)
+        seen = await self._context.seen(self.table_id)
         grace = self._context.grace
         return await self._end(lambda r: tables.claim(r, player, seen, time.time(), grace))
 
@@ -536,7 +551,7 @@ class TableActor:
         seat = tables.seated(record, player)
         now = time.time()
         await context.storage.heartbeat(record.id, seat, now)
-        seen = await context.storage.heartbeats(record.id)
+        seen = await context.seen(record.id)
         message = PresenceMessage(
             version=record.version,
             presence=tables.presence(record, seen, now),
@@ -547,6 +562,8 @@ class TableActor:
             context.presence[record.id] = message
             await context.publisher.publish(record.channel, message)
         self.tell(commands.BotMove())  # after a restart: finish what was left, let a bot act
+        if record.deadline is not None and record.deadline <= now:
+            self.tell(commands.ClockExpiry())  # a clock that waited for someone to come back
         return message
 
     async def _quick_message(self, player: PlayerInfo, text: QuickText) -> ChatMessage:
@@ -574,9 +591,11 @@ class TableActor:
     async def _expire(self) -> None:
         """Play the timeout input for the seat to act if its deadline has passed."""
         record = await self._settled()
-        seat = tables.acting_seat(record)
-        if record.deadline is None or record.deadline > time.time() or seat is None:
+        seat, now = tables.acting_seat(record), time.time()
+        if record.deadline is None or record.deadline > now or seat is None:
             return
+        if not tables.attended(record, await self._context.seen(record.id), now):
+            return  # everyone has left: nothing is played on until someone is back
         occupant = record.seats[seat]
         assert occupant is not None
         shot_id = ids.server_input_id(ids.CLOCK_PREFIX, record.version)

@@ -19,6 +19,7 @@ from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import (
     BOT_LEVELS,
     PRESENCE_TIMEOUT,
+    REMATCH_LAPSE,
     BotName,
     derived_table_id,
     table_channel,
@@ -254,18 +255,22 @@ def rematch_id(table_id: str) -> str:
     return derived_table_id("rematch", table_id)
 
 
-def offer_rematch(record: TableRecord, player: PlayerInfo) -> TableRecord:
+def offer_rematch(record: TableRecord, player: PlayerInfo, now: float) -> TableRecord:
     """The finished match with `player`'s rematch offer; once both offered, linked to its
-    rematch table (`rematch_id`). Unchanged (the same object) if there is nothing new."""
+    rematch table (`rematch_id`). Unchanged (the same object) if there is nothing new. Offers
+    lapse when the table has not changed for `REMATCH_LAPSE` seconds (its last change was the
+    last offer, or came after it): this one is then a new offer, not an accept."""
     seat = seated(record, player)
     if record.status is not Status.OVER or record.mode is not Mode.MATCH:
         raise ServiceError(ErrorCode.WRONG_PHASE, "a rematch follows a finished match")
-    offers = list(record.rematch)
-    offers[seat] = True
-    both = all(offers)
-    if record.rematch[seat] and (not both or record.rematch_table is not None):
+    if record.rematch_table is not None:
         return record
-    link = rematch_id(record.id) if both else None
+    lapsed = now - record.updated > REMATCH_LAPSE
+    offers = [False, False] if lapsed else list(record.rematch)
+    offers[seat] = True
+    if not lapsed and (offers[0], offers[1]) == record.rematch:
+        return record
+    link = rematch_id(record.id) if all(offers) else None
     return bump(record, rematch=(offers[0], offers[1]), rematch_table=link)
 
 
@@ -394,6 +399,15 @@ def presence(record: TableRecord, seen: Seen, now: float) -> tuple[bool, bool]:
         for occupant, when in zip(record.seats, last, strict=True)
     ]
     return here[0], here[1]
+
+
+def attended(record: TableRecord, seen: Seen, now: float) -> bool:
+    """Whether any player of flesh is at the table (a bot or an empty seat is nobody)."""
+    here = presence(record, seen, now)
+    return any(
+        present and occupant is not None and not is_bot(occupant)
+        for occupant, present in zip(record.seats, here, strict=True)
+    )
 
 
 def grace_until(

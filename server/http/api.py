@@ -195,7 +195,7 @@ async def table_of(request: web.Request) -> TableRecord:
 
 
 async def full_view(service: Service, record: TableRecord) -> TableView:
-    seen = await service.storage.heartbeats(record.id)
+    seen = await service.matches.context.seen(record.id)
     return tables.view(record, seen, await service.lobby.spectators(record))
 
 

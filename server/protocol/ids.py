@@ -178,6 +178,10 @@ class MessageKind(StrEnum):
 #: disconnected after `PRESENCE_TIMEOUT` without one, so two may be lost before that happens.
 HEARTBEAT_INTERVAL = 3.0
 PRESENCE_TIMEOUT = 10.0
+#: Seconds a rematch offer stands: a finished table's players send no heartbeats, so an offer
+#: its player may have walked away from lapses; accepting it later is an offer of one's own
+#: (before, a stale offer seated its absent player at a rated match the other then claimed).
+REMATCH_LAPSE = 60.0
 #: Seconds between the `GET /api/quick` polls of a client waiting for a quick match: a request
 #: lapses `QUICK_LAPSE` seconds after its last poll, so a client that died is never paired.
 QUICK_POLL = 5.0

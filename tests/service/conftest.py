@@ -189,6 +189,13 @@ def service_of(http: TestClient) -> Service:
     return http.server.app[SERVICE_KEY]
 
 
+def up_a_while(http: TestClient) -> None:
+    """Let the server count heartbeats as one that has run a while does: a test that stores an
+    old heartbeat means a player gone that long, which a server just started would count
+    from its start (`MatchContext.up_since`)."""
+    service_of(http).matches.context.up_since = 0.0
+
+
 # ----- deployments: one SQLite server, or two replicas sharing a Redis -----------------------
 Deploy = Callable[..., Awaitable[list[TestClient]]]
 

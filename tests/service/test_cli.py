@@ -10,7 +10,7 @@ from pathlib import Path
 from aiohttp.test_utils import TestClient
 
 from server.game import refereeing
-from tests.service.conftest import WAIT_S, StartServer, register, service_of
+from tests.service.conftest import WAIT_S, StartServer, register, service_of, up_a_while
 
 BILLIARDS = [sys.executable, "-m", "server.cli"]
 
@@ -109,6 +109,7 @@ async def test_play_claims_the_win_from_an_opponent_gone_past_the_grace(
     url = str(server.make_url("")).rstrip("/")
     bob = await register(server, "Bob")
     table = await bob.create("nineball")  # Bob breaks, and is gone before his first shot
+    up_a_while(server)
     await service_of(server).storage.heartbeat(table["id"], 0, time.time() - 1000)
     ada = await run("play", url, "nineball", "--join", table["id"], "--name", "Ada")
     code, lines, err = await finish(ada)

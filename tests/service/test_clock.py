@@ -10,8 +10,9 @@ from aiohttp.test_utils import TestClient
 
 from server.client.api_client import from_json
 from server.game import clock, refereeing
+from server.game.commands import ClockExpiry
 from server.storage.sqlite import SqliteStorage
-from tests.service.conftest import StartServer, register, service_of, watch
+from tests.service.conftest import StartServer, register, service_of, up_a_while, watch
 
 
 async def test_a_clock_that_runs_out_is_a_foul_played_by_the_server(server: TestClient) -> None:
@@ -30,6 +31,29 @@ async def test_a_clock_that_runs_out_is_a_foul_played_by_the_server(server: Test
     assert outcome["decision"]["fouls"] and outcome["next"]["seat"] == 1
     assert outcome["next"]["ball_in_hand"] == "anywhere"
     assert outcome["next"]["deadline"] > time.time() + 25  # Bob's clock started
+
+
+async def test_a_table_everyone_has_left_is_not_played_on(server: TestClient) -> None:
+    """Before: a clocked match both players had left played a timeout every clock period, for
+    ever (each stored, 3.6 KB); its clock now waits, and acts as soon as a player is back."""
+    ada, bob = await register(server, "Ada"), await register(server, "Bob")
+    table = await ada.create("three_cushion", shot_clock=30)
+    _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+    service = service_of(server)
+    up_a_while(server)
+    storage = service.storage
+    for seat in (0, 1):  # both last seen long ago: gone
+        await storage.heartbeat(view["id"], seat, time.time() - 1000)
+    record = await storage.get_table(view["id"])
+    expired = record.model_copy(update={"version": record.version + 1, "deadline": time.time()})
+    assert await storage.update(expired)
+    service.matches.owner(view["id"]).tell(ClockExpiry())
+    await service.matches.idle()
+    assert (await storage.get_table(view["id"])).version == expired.version
+    watcher = await watch(server, view["channel"])
+    await ada.call("POST", f"/api/tables/{view['id']}/heartbeat", expect=200)  # Ada is back
+    outcome = await watcher.next_kind("outcome")
+    assert outcome["shot_id"] == f"clock:{expired.version:08d}"
 
 
 async def test_a_table_whose_clock_input_fails_does_not_hold_the_others_clocks(

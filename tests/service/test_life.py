@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import asyncio
 import time
 
 import pytest
 from aiohttp.test_utils import TestClient
 
+from server.game import tables
 from server.protocol.ids import PRESENCE_TIMEOUT
-from tests.service.conftest import StartServer, register, service_of, watch
+from tests.service.conftest import StartServer, register, service_of, up_a_while, watch
 from tests.service.test_match import abandon_input, picked, seated_match
 
 
@@ -55,6 +57,7 @@ async def test_presence_claim_and_resign(server: TestClient) -> None:
     assert presence["presence"] == [True, True]
     assert (await watcher.next_kind("presence"))["presence"] == [True, True]
     storage = service_of(server).storage
+    up_a_while(server)
     await storage.heartbeat(table, 1, time.time() - 1000)  # Bob left long ago
     _, presence = await ada.call("POST", f"/api/tables/{table}/heartbeat", expect=200)
     assert presence["presence"] == [True, False] and presence["grace_until"][1] < time.time()
@@ -78,6 +81,7 @@ async def test_the_grace_period_is_the_servers_setting(start_server: StartServer
     ada, _, view = await seated_match(server)
     table = view["id"]
     gone = time.time() - 45  # Bob's last heartbeat: past 10 + 30 s, within the default 10 + 60
+    up_a_while(server)
     await service_of(server).storage.heartbeat(table, 1, gone)
     _, presence = await ada.call("POST", f"/api/tables/{table}/heartbeat", expect=200)
     assert presence["presence"] == [True, False]
@@ -98,6 +102,21 @@ async def test_a_rematch_swaps_the_break_once_both_ask(server: TestClient) -> No
     fresh = await (await server.get(f"/api/tables/{accepted['rematch_table']}")).json()
     assert [s["id"] for s in fresh["seats"]] == [bob.info["id"], ada.info["id"]]
     assert fresh["status"] == "playing" and fresh["next"]["seat"] == 0
+
+
+async def test_a_rematch_offer_lapses(server: TestClient, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Before: an offer stood for as long as the table was kept, and accepting it a while after
+    its player had gone seated that player at a rated match the other then claimed."""
+    monkeypatch.setattr(tables, "REMATCH_LAPSE", 0.3)
+    ada, bob, view = await seated_match(server)
+    table = view["id"]
+    await bob.call("POST", f"/api/tables/{table}/resign", expect=200)
+    await ada.call("POST", f"/api/tables/{table}/rematch", expect=200)
+    await asyncio.sleep(0.5)  # Ada's offer lapses
+    _, late = await bob.call("POST", f"/api/tables/{table}/rematch", expect=200)
+    assert late["rematch"] == [False, True] and late["rematch_table"] is None
+    _, accepted = await ada.call("POST", f"/api/tables/{table}/rematch", expect=200)
+    assert accepted["rematch"] == [True, True] and accepted["rematch_table"] is not None
 
 
 async def test_quick_messages_are_a_fixed_set_and_rate_limited(server: TestClient) -> None:

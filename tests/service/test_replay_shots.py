@@ -20,7 +20,7 @@ from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import REPLAY_SHOTS_PAGE
 from server.protocol.models import ReplayView
 from server.storage import Storage
-from tests.service.conftest import Player, Ticks, register, service_of, watch
+from tests.service.conftest import Player, Ticks, register, service_of, up_a_while, watch
 from tests.service.test_leaderboard import _record
 from tests.service.test_match import picked, seated_match
 
@@ -112,6 +112,7 @@ async def test_a_rack_cut_short_by_a_resignation_or_a_claim_keeps_its_replay(
     # A claim keeps the rack too; a match ended before any shot has nothing to replay.
     _, _, claimed = await seated_match(server, (ada, bob))
     await _play_shots(server, players, claimed, 1)
+    up_a_while(server)
     await service_of(server).storage.heartbeat(claimed["id"], 1, time.time() - 1000)
     _, won = await ada.call("POST", f"/api/tables/{claimed['id']}/claim", expect=200)
     assert (won["ended"], len(won["replays"])) == ("claimed", 1)

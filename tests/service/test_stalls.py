@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import asyncio
 import time
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -21,7 +22,8 @@ from server.protocol.feed import GAP_TYPE
 from server.protocol.ids import QUICK_SHOT_CLOCK, BotName
 from server.protocol.models import Mode, PlayerInfo, TableCreate
 from server.storage import Storage, StorageError
-from tests.service.conftest import Deploy, Player, on, register, service_of, watch
+from server.storage.sqlite import SqliteStorage
+from tests.service.conftest import Deploy, Player, StartServer, on, register, service_of, watch
 from tests.service.test_match import picked
 
 #: How long a request may take to be answered here before the test calls it a stall.
@@ -129,6 +131,36 @@ async def test_a_seat_that_never_sent_a_heartbeat_can_be_claimed(
     ada = on(replicas, ada, -1)
     _, presence = await ada.call("POST", f"/api/tables/{view['id']}/heartbeat", expect=200)
     assert presence["presence"] == [True, False] and presence["grace_until"][1] <= time.time()
+    _, won = await ada.call("POST", f"/api/tables/{view['id']}/claim", expect=200)
+    assert won["status"] == "over" and won["winner"] == 0
+
+
+async def test_an_outage_is_nobodys_absence(
+    start_server: StartServer, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Both players were here when the server went down for longer than the grace: after the
+    restart neither may claim at once (before, the first one back claimed a rated win), and
+    a player who does not come back is claimable as if they had left at the restart."""
+    monkeypatch.setattr(tables, "PRESENCE_TIMEOUT", 0.3)
+    first = await start_server(grace=0.3)
+    ada, bob = await register(first, "Ada"), await register(first, "Bob")
+    table = await ada.create("nineball")
+    _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+    for player in (ada, bob):
+        await player.call("POST", f"/api/tables/{view['id']}/heartbeat", expect=200)
+    await first.close()
+    storage = await SqliteStorage.open(tmp_path / "game.sqlite")  # the outage: 1,000 s
+    for seat in (0, 1):
+        await storage.heartbeat(view["id"], seat, time.time() - 1000)
+    await storage.close()
+    second = await start_server(grace=0.3)
+    ada = Player(http=second, info=ada.info, token=ada.token)
+    status, early = await ada.call("POST", f"/api/tables/{view['id']}/claim")
+    assert (status, early["code"]) == (409, "wrong_phase")
+    _, shown = await ada.call("GET", f"/api/tables/{view['id']}", expect=200)
+    assert shown["presence"] == [True, True]
+    await asyncio.sleep(0.8)  # Bob does not come back
+    await ada.call("POST", f"/api/tables/{view['id']}/heartbeat", expect=200)
     _, won = await ada.call("POST", f"/api/tables/{view['id']}/claim", expect=200)
     assert won["status"] == "over" and won["winner"] == 0
 
