@@ -69,7 +69,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--key-file", help="the token signing key, mode 0600 (default: the --db path + .key)"
     )
-    parser.add_argument("--workers", type=int, help="simulation processes (default: one per core)")
+    parser.add_argument(
+        "--workers",
+        type=int,
+        help="simulation processes, and as many for the bots (default: one per core)",
+    )
     parser.add_argument(
         "--grace",
         type=float,
