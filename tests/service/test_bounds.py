@@ -112,3 +112,5 @@ async def test_one_players_bot_tables_search_one_at_a_time(server: TestClient) -
         bots_move = await asyncio.wait_for(watcher.next_kind("outcome"), ANSWER_S)
         assert bots_move["seat"] == 1
     assert most == {"Ada": 1, "Bob": 1} and both.is_set()
+    await service.matches.idle()
+    assert len(service.matches.context.bot_turns) == 0  # no lock kept for nobody
