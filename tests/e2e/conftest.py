@@ -223,10 +223,10 @@ def wait_shown(page: Page, count: int = 1, timeout: float = 60_000) -> None:
     page.wait_for_function("(n) => (window.billiards?.shown ?? 0) >= n", arg=count, timeout=timeout)
 
 
-def wait_version(page: Page, version: int) -> None:
+def wait_version(page: Page, version: int, timeout: float = 90_000) -> None:
     """Until the page shows the table at `version` (any animation played to its end)."""
     page.wait_for_function(
-        "(v) => (window.billiards?.version ?? -1) >= v", arg=version, timeout=90_000
+        "(v) => (window.billiards?.version ?? -1) >= v", arg=version, timeout=timeout
     )
 
 
@@ -372,3 +372,26 @@ class Api:
         """Play the simple shot picker's input for the table as it is; the view after."""
         state = State.model_validate(self.table(table_id)["state"])
         return self.play(table_id, pick(state).model_dump(mode="json", exclude_defaults=True))
+
+
+class Watched:
+    """A nine-ball match of two new players, pages A and B with their `apis` (Ada created the
+    table, Bob joined it: `view`, the table then), and a third page, C, to watch it."""
+
+    def __init__(
+        self, browser: Browser, server: Server, console: Console, prefix: str, **context: object
+    ) -> None:
+        self.contexts = [browser.new_context(**context) for _ in "ABC"]
+        ada, bob, cy = (
+            console.watch(c.new_page(), who) for c, who in zip(self.contexts, "ABC", strict=True)
+        )
+        self.pages = (ada, bob, cy)
+        self.apis = [Api(ada, server), Api(bob, server)]
+        self.apis[0].sign_in(unique_name(prefix + "a"))
+        self.apis[1].sign_in(unique_name(prefix + "b"))
+        self.table: str = self.apis[0].call("POST", "/api/tables", {"game": "nineball"})["id"]
+        self.view = self.apis[1].call("POST", f"/api/tables/{self.table}/join")
+
+    def close(self) -> None:
+        for context in self.contexts:
+            context.close()

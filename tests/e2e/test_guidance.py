@@ -9,6 +9,8 @@ from __future__ import annotations
 import json
 import math
 
+from playwright.sync_api import expect
+
 from rules.inputs import accept
 from rules.referee import referee as referee_of
 from rules.spots import in_region, is_free
@@ -293,6 +295,25 @@ def test_the_home_page_speaks_to_players(open_page, console):
     wait_shown(page)
     assert "Beginner bot (level 1)" in page.locator("#players").inner_text()
     screenshot(page, "guidance-bot-table")
+
+
+def test_a_refusal_on_the_home_page_is_shown_beside_its_control(open_page, server, console):
+    console.allow("409")  # the refused request, logged by the browser
+    page = open_page("/")
+    api = Api(page, server)
+    api.sign_in(unique_name("Tm"))
+    for _ in range(3):  # the most open tables one player may have
+        api.call("POST", "/api/tables", {"game": "snooker"})
+    page.reload()
+    page.wait_for_function("document.getElementById('who').textContent !== ''")
+    page.click("#create-form button[type=submit]")
+    refusal = page.get_by_role("alert").filter(has_text="you have 3 open tables")
+    refusal.wait_for(state="attached")
+    expect(refusal).to_be_in_viewport()  # where the player looks, not at the page's foot
+    card = page.locator(".card", has=page.locator("#create-form"))
+    assert card.get_by_role("alert").inner_text() == refusal.inner_text()  # by its control
+    assert page.url == server.url + "/"  # no table was made
+    screenshot(page, "guidance-home-refusal")
 
 
 PHONE = {"width": 390, "height": 844}

@@ -47,7 +47,10 @@ def test_practice_table_draws_in_its_colours(open_page, game, cloth):
     assert colours[cloth] > 0.2, colours  # the cloth fills much of the view
     assert colours["blank"] < 0.9, colours
     status = page.get_by_role("status").inner_text()
-    assert "to shoot" in status and "Score" in status
+    # Who is to shoot, and the break or run under way (pool's practice has no other score:
+    # its racks count for nobody, and the referee scores no points in pool).
+    assert "to shoot" in status and "Current " in status
+    assert ("Score (points)" in status) == (game in ("snooker", "three_cushion")), status
     screenshot(page, f"practice-{game}-aim")
     page.keyboard.press("v")  # the top view
     wait_drawn(page, "top")
@@ -160,10 +163,12 @@ def test_mobile_layout(browser, server, console):
     enter_name(page, unique_name("Ph"))
     wait_shown(page)
     wait_drawn(page)
-    # Portrait: the table above the panel, the Hit button on screen without scrolling sideways.
+    # Portrait: the table above the panel, the Hit button on screen without scrolling (down
+    # or sideways).
     canvas = page.locator("#table").bounding_box()
     hit = page.locator("#hit").bounding_box()
     assert canvas["width"] <= 390 and hit["y"] > canvas["y"] + canvas["height"] - 1
+    assert hit["y"] + hit["height"] <= 844
     assert page.evaluate("document.documentElement.scrollWidth") <= 390
     page.locator("#view-toggle").tap()
     wait_drawn(page, "top")

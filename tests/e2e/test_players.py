@@ -136,6 +136,25 @@ def test_the_lobby_says_who_is_online_and_what_each_does(open_page, server, cons
     ada.screenshot(path=str(artefact("players-online")), full_page=True)
 
 
+def test_the_own_name_is_marked_as_soon_as_the_page_knows_its_player(open_page, server):
+    page, name = at_home(open_page, server, "Me", "Ada")
+    online_entry(page, name)
+    # Reloaded, the page draws the lobby's last snapshot (from the relay's buffer) before the
+    # server has said who its player is (that answer held back here): drawn for nobody.
+    held = []
+    page.route("**/api/me", lambda route: held.append(route))
+    page.reload()
+    entry = online_entry(page, name)
+    assert entry.get_by_role("button", name=f"Challenge {name}").count() == 1
+    while not held:
+        page.wait_for_timeout(50)
+    held.pop().continue_()
+    page.wait_for_function("document.getElementById('who').textContent !== ''")
+    # The same snapshot, drawn again for the player: no challenge to oneself.
+    assert "(you)" in entry.inner_text()
+    assert entry.get_by_role("button").count() == 0
+
+
 def test_a_challenge_is_sent_seen_and_accepted_and_both_land_on_the_table(
     browser, open_page, server
 ):
@@ -276,4 +295,19 @@ def test_the_bot_levels_show_each_level_s_rating(open_page, server):
     rating_words = page.locator("#games .card", has_text="Nine-ball").locator(".bot-rating")
     expected = f"Rated {round(rating['rating'])} (provisional) in Nine-ball."
     assert rating_words.inner_text() == expected
+    # Every card's list is as wide as its longest level needs: no level's words cut short.
+    for select in page.locator("#games select.bot-level").element_handles():
+        assert page.evaluate(FITS_ITS_OPTIONS, select), select.get_attribute("aria-label")
     screenshot(page, "players-bot-levels")
+
+
+#: Whether select element `s` is as wide as it would be were its width not bound (by its
+#: card): as wide as its longest option needs, so that each shows whole when chosen.
+FITS_ITS_OPTIONS = """(s) => {
+    const free = s.cloneNode(true);
+    Object.assign(free.style, { maxWidth: "none", position: "absolute", visibility: "hidden" });
+    document.body.append(free);
+    const needed = free.getBoundingClientRect().width;
+    free.remove();
+    return s.getBoundingClientRect().width >= needed - 0.5;
+}"""

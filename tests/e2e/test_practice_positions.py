@@ -1,6 +1,7 @@
 """The practice table as a practice tool in the browser: a position set up by dragging balls
 off and across the table, played, its shot taken again from the same position, shared as a
 link and opened in a second browser context (another person) where it is set up as shared;
+a new rack (the shot again, a re-rack, a named position) no longer telling the shot before it;
 and a 7 ft nine-ball table created from the lobby, drawn from the server's smaller geometry."""
 
 from __future__ import annotations
@@ -139,6 +140,26 @@ def test_a_named_position_is_set_up_from_the_list(open_page, server):
     page.click("#view-toggle")
     wait_drawn(page, "top")
     screenshot(page, "practice-preset-combination")
+
+
+def test_a_new_rack_no_longer_tells_the_last_shot(open_page, server):
+    page = open_page("/practice/nineball")
+    enter_name(page, unique_name("Nw"))
+    wait_shown(page)
+    status = page.get_by_role("status")
+    # A shot, then each way to a new rack: the shot again, a re-rack, a named position. The
+    # referee's words of the shot ("... potted ...") go with the rack it was played in.
+    for new_rack in ("#retake", "#rerack", "#preset-go"):
+        shown = page.evaluate("window.billiards.shown")
+        strike_with_keys(page, hold_ms=400)
+        wait_shown(page, shown + 1)
+        assert "potted" in status.inner_text()
+        version = page.evaluate("window.billiards.version")
+        page.click(new_rack)
+        page.wait_for_function("(v) => window.billiards.version > v", arg=version)
+        assert table_of(page, server)["last_outcome"] is None
+        assert "potted" not in status.inner_text(), new_rack
+        assert "to shoot" in status.inner_text()
 
 
 def test_a_broken_position_link_says_why(open_page, console):

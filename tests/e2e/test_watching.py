@@ -3,20 +3,13 @@ spectators (throttled, drawn, never played), and the bot lines up before it stri
 
 from __future__ import annotations
 
-from tests.e2e.conftest import Api, screenshot, unique_name, wait_shown, wait_version
+from tests.e2e.conftest import Api, Watched, screenshot, unique_name, wait_shown, wait_version
 
 
 def test_the_opponent_and_a_spectator_watch_the_shooter_line_up(browser, server, console):
-    contexts = [browser.new_context() for _ in range(3)]
-    ada, bob, cy = (
-        console.watch(c.new_page(), who) for c, who in zip(contexts, "ABC", strict=True)
-    )
+    match = Watched(browser, server, console, "W")
+    (ada, bob, cy), apis, table, view = match.pages, match.apis, match.table, match.view
     try:
-        apis = [Api(ada, server), Api(bob, server)]
-        apis[0].sign_in(unique_name("Wa"))
-        apis[1].sign_in(unique_name("Wb"))
-        table = apis[0].call("POST", "/api/tables", {"game": "nineball"})["id"]
-        view = apis[1].call("POST", f"/api/tables/{table}/join")
         for page in (ada, bob, cy):
             page.goto(f"{server.url}/table/{table}")
             wait_version(page, view["version"])
@@ -39,8 +32,7 @@ def test_the_opponent_and_a_spectator_watch_the_shooter_line_up(browser, server,
         screenshot(watchers[1], "watching-spectator-sees-aim")
         assert apis[0].table(table)["version"] == view["version"]  # nothing was played
     finally:
-        for c in contexts:
-            c.close()
+        match.close()
 
 
 def test_the_bot_lines_up_before_it_strikes(open_page, server):

@@ -21,17 +21,19 @@ for await (const chunk of process.stdin) text += chunk;
 const { messages, me } = JSON.parse(text);
 const s = new TableState();
 for (const m of messages) s.apply(m);
-console.log(JSON.stringify({ view: s.view, decided: s.decided?.version ?? null, grace: s.grace,
+console.log(JSON.stringify({ view: s.view, last: s.last?.version ?? null, grace: s.grace,
   replays: s.replays, seat: s.seatOf(me), turn: s.turnOf(me), shot: s.shot }));
 """
 
-#: Reads {view, decision} on stdin; prints the decision in words.
+#: Reads {view, decision, outcome} on stdin; prints the decision, the outcome (if given) and
+#: the score in words.
 WORDS = """
-import { decisionWords, scoreWords } from %(words)s;
+import { decisionWords, outcomeWords, scoreWords } from %(words)s;
 let text = "";
 for await (const chunk of process.stdin) text += chunk;
-const { view, decision } = JSON.parse(text);
-console.log(JSON.stringify({ decision: decisionWords(view, decision), score: scoreWords(view) }));
+const { view, decision, outcome } = JSON.parse(text);
+console.log(JSON.stringify({ decision: decision ? decisionWords(view, decision) : null,
+  outcome: outcome ? outcomeWords(view, outcome) : null, score: scoreWords(view) }));
 """
 
 
@@ -85,7 +87,7 @@ def test_an_outcome_changes_the_fields_it_carries_and_nothing_else():
     view = got["view"]
     assert (view["version"], view["state"], view["next"]) == (4, after, NEXT)
     assert (view["rack"], view["racks_won"], view["seats"][0]["name"]) == (2, [1, 0], "Ada")
-    assert got["decided"] == 4
+    assert got["last"] == 4
     assert got["replays"] == [{"rack": 1, "id": "r" * 24, "unfinished": False}]
     # Every rule question is the server's `next`: Bob's shot, with its ShotRules.
     assert (got["seat"], got["turn"], got["shot"]) == (1, "shot", SHOT)
@@ -121,3 +123,61 @@ def test_three_cushion_scores_points_not_pots():
     assert missed["decision"].startswith("Ada did not score.")
     assert "potted" not in scored["decision"] + missed["decision"]
     assert "Current run (points): 0" in scored["score"] and "Break: 0" not in scored["score"]
+
+
+def outcome_message(version: int, **changes) -> dict:
+    """An OutcomeMessage of Ada's (seat 0) shot at `version`, as the channel carries it."""
+    base = {"kind": "outcome", "protocol": 1, "version": version, "shot_id": f"s{version:07d}",
+            "seat": 0, "input": {"strike": {"ball": "cue", "speed": 2.0, "heading": 90.0}},
+            "decision": decision(pocketed=["3"]), "state": STATE, "next": NEXT, "rack": 1,
+            "racks_won": [0, 0], "status": "playing", "winner": None}  # fmt: skip
+    return {**base, **changes}
+
+
+def test_a_new_rack_in_a_whole_view_leaves_no_last_shot_to_tell():
+    # Practice: a shot, then a re-rack (or a retake, a set-up position): a view with no
+    # last outcome. The status must not go on describing the shot of the rack before.
+    practice = {"mode": "practice", "seats": [{"id": "p_a", "name": "Ada"}, None]}
+    shot = outcome_message(4)
+    reracked = table_view(version=5, **practice)
+    got = node(APPLY, {"messages": [table_view(**practice), shot, reracked], "me": {"id": "p_a"}})
+    assert got["last"] is None
+    got = node(APPLY, {"messages": [table_view(**practice), shot], "me": {"id": "p_a"}})
+    assert got["last"] == 4
+
+
+def test_a_choice_is_told_who_chose_what():
+    # Nine-ball: Ada pushed out, Bob (seat 1) chooses; a choice has no decision.
+    view = table_view()
+    for option, words in [
+        ("play_again", "Bob chose to make Ada play again."),
+        ("play_on", "Bob chose to play on."),
+    ]:
+        choice = outcome_message(5, seat=1, input={"option": option}, decision=None)
+        assert node(WORDS, {"view": view, "outcome": choice})["outcome"] == words
+    replace = outcome_message(5, seat=1, input={"option": "replace"}, decision=None)
+    snooker = table_view(game="snooker", state={**STATE, "game": "snooker"})
+    told = node(WORDS, {"view": snooker, "outcome": replace})["outcome"]
+    assert told == "Bob chose to have the balls replaced and Ada play again."
+    # The shot clock chose for Bob: said so, then what was chosen.
+    clock = {**replace, "shot_id": "clock:00000005", "input": {"option": "play_on"}}
+    told = node(WORDS, {"view": snooker, "outcome": clock})["outcome"]
+    assert told == "Bob's shot clock ran out. Bob chose to play on."
+
+
+def test_each_game_scores_what_its_players_win():
+    # Pool: the referee's scores stay 0; the score is the racks won.
+    pool = table_view(racks_won=[1, 0], state={**STATE, "scores": [0, 0]})
+    words = node(WORDS, {"view": pool})["score"]
+    assert words.startswith("Racks won: Ada 1, Bob 0.") and "Score" not in words
+    # Snooker in a race to 2: the frame's points, and the frames won.
+    state = {**STATE, "game": "snooker", "scores": [12, 4]}
+    snooker = table_view(game="snooker", state=state, racks_won=[0, 1])
+    words = node(WORDS, {"view": snooker})["score"]
+    assert "Score (points): Ada 12, Bob 4. Frames won: Ada 0, Bob 1." in words
+    # Three-cushion: a game won is a game, not a rack.
+    carom = table_view(game="three_cushion", state={**STATE, "game": "three_cushion"})
+    won = decision(points=[1, 0], over=True, winner=0)
+    got = node(WORDS, {"view": carom, "decision": won})
+    assert got["decision"].endswith("Ada wins the game.")
+    assert "Games won: Ada 0, Bob 0." in got["score"] and "rack" not in got["score"].lower()

@@ -34,7 +34,7 @@ export function challengeWords(c) {
 
 export class Challenges {
   /** box: where pending challenges show; me: the player; go(tableId): open a table;
-   *  onError(e): show a refusal. */
+   *  onError(e, near): show a refusal near element `near` (here, the box). */
   constructor(box, me, go, onError) {
     Object.assign(this, { box, me, go, onError });
     this.pending = new Map(); // id -> challenge, as last seen pending
@@ -96,7 +96,7 @@ export class Challenges {
       this.render();
       if (settled.status === "accepted" && settled.table) this.go(settled.table);
     } catch (e) {
-      this.onError(e);
+      this.onError(e, this.box);
       this.refresh();
     }
   }

@@ -24,9 +24,23 @@ function nameRefusal(err) {
   return err.message;
 }
 
-function error(e) {
-  $("home-error").textContent = e ? e.message : "";
+/** The page's one line for a refusal (kept here: it moves about the page). */
+const errorLine = $("home-error");
+
+/** Show refusal `e` (null: none) where the player is looking: the page's one error line
+ *  moves into the card of `near`, the control that failed (or into the corner box of
+ *  challenges), and is scrolled into sight; without a control it stays where it was (at
+ *  first the page's foot), scrolled into sight too. */
+function error(e, near = null) {
+  errorLine.textContent = e ? e.message : "";
+  if (!e) return;
+  const box = near?.closest(".card, .challenges");
+  if (box && errorLine.parentElement !== box) box.append(errorLine);
+  errorLine.scrollIntoView({ block: "nearest" });
 }
+
+/** error(e) shown beside `control`: for a promise's catch. */
+const errorAt = (control) => (e) => error(e, control);
 
 function el(tag, text, className) {
   const node = document.createElement(tag);
@@ -43,10 +57,16 @@ function go(tableId) {
  *  (challenges, a quick match waiting). */
 const session = { me: null, challenges: null, listeners: [] };
 
+/** The lobby's last snapshot (LobbyMessage), drawn again once the page knows its player. */
+let lobby = null;
+
 function startSession(me) {
   if (session.me?.id === me.id) return;
   if (session.me) return location.reload(); // another name now: start again as it
   session.me = me;
+  // The lobby's last snapshot was drawn for nobody: draw it again, the player's own name
+  // marked "(you)" rather than offered a challenge.
+  if (lobby) showLobby(lobby);
   session.challenges = new Challenges($("challenges"), me, go, error);
   session.listeners.push((m) => session.challenges.onMessage(m));
   new Subscription(playerChannel(me.id), { onMessage: (m) => session.listeners.forEach((f) => f(m)) });
@@ -118,7 +138,7 @@ function gameCard(game) {
   const quick = el("button", "Quick match", "primary");
   quick.type = "button";
   quick.title = `Paired with the next player asking for the same options; ${QUICK_SHOT_CLOCK} s shot clock`;
-  quick.onclick = () => quickMatch(game, read(), quick).catch(error);
+  quick.onclick = () => quickMatch(game, read(), quick).catch(errorAt(quick));
   const level = el("select", null, "bot-level");
   level.setAttribute("aria-label", `${GAME_NAMES[game]}: the bot's level`);
   for (const id of Object.keys(BOT_LEVELS)) level.append(new Option(botLabel(id, game), id, false, id === DEFAULT_BOT));
@@ -130,7 +150,7 @@ function gameCard(game) {
     player()
       .then(() => post("/api/tables", { game, mode: "bot", bot: level.value, ...read() }))
       .then((v) => go(v.id))
-      .catch(error);
+      .catch(errorAt(bot));
   const practice = el("a", "Practice", "button");
   practice.href = `/practice/${game}`;
   const board = el("a", "Leaderboard", "button");
@@ -162,7 +182,7 @@ function createForm() {
       const view = await post("/api/tables", { game: select.value, ...read(), private: $("private").checked });
       go(view.id);
     } catch (err) {
-      error(err);
+      error(err, $("create-form"));
     }
   });
 }
@@ -196,11 +216,15 @@ function showTables(tables, online) {
 }
 
 function showLobby(m) {
+  lobby = m;
   showTables(m.tables, m.players_online);
+  // A refusal shows under the list and its challenge form (which is redrawn for each player:
+  // the error line is kept out of it).
+  const refused = errorAt($("people"));
   const challenge = (target) =>
     player()
-      .then(() => challengeForm($("challenge-form"), target, (body) => session.challenges.send(body), error))
-      .catch(error);
+      .then(() => challengeForm($("challenge-form"), target, (body) => session.challenges.send(body), refused))
+      .catch(refused);
   showOnline($("people"), m.online, session.me, challenge);
 }
 
@@ -232,7 +256,7 @@ async function main() {
   });
   get("/api/tables")
     .then((list) => showTables(list.tables, null))
-    .catch(error);
+    .catch(errorAt($("tables")));
   new Subscription(LOBBY, { onMessage: (m) => m.kind === KIND.LOBBY && showLobby(m) });
 }
 

@@ -238,7 +238,6 @@ class PlayPage {
       $("status").textContent = `${seatName(v, this.shooter)} shoots...`;
       return;
     }
-    const { decided } = this.state;
     if (v.status === "over" && v.winner != null) {
       $("status").textContent = `Match over. ${resultWords(v)} ${scoreWords(v)}`;
       return;
@@ -250,7 +249,7 @@ class PlayPage {
       $("status").textContent = [this.notice, nextWords(v), invite].filter(Boolean).join(" ");
       return;
     }
-    const words = decided ? outcomeWords(v, decided) : v.last_outcome?.void ? `The shot could not be played (${v.last_outcome.void}).` : "";
+    const words = this.state.last ? outcomeWords(v, this.state.last) : "";
     $("status").textContent = [this.notice, words, nextWords(v), scoreWords(v)].filter(Boolean).join(" ");
   }
 

@@ -10,7 +10,7 @@ import { KIND } from "../net/protocol.js";
 import { Subscription } from "../net/relay.js";
 import { nameElement } from "../play/profile.js";
 import { TableSounds } from "../play/sound.js";
-import { decisionWords, playerName, rackUnit } from "../play/words.js";
+import { playedWords, playerName, rackUnit } from "../play/words.js";
 import { Animation } from "../three/animate.js";
 import { TableScene } from "../three/view.js";
 import { tableFor } from "../play/tables.js";
@@ -55,11 +55,13 @@ class ReplayPage {
     this.say("Waiting for the table's shots...");
   }
 
-  /** Add shots in the order played: {key, seat, input, decision, trajectory, rest} (`rest`:
-   * where the balls stand when the shot is over); choices (no trajectory) are left out. */
+  /** Add inputs in the order played: {key, seat, input, decision, trajectory, rest} (`rest`:
+   * where the balls stand after it). Shots and choices (a choice moves nothing: it is told);
+   * an input the engine refused, which changed nothing, is left out. */
   add(shots) {
     for (const shot of shots) {
-      if (!shot.trajectory || this.shots.some((s) => s.key === shot.key)) continue;
+      const played = shot.trajectory || shot.input.option;
+      if (!played || this.shots.some((s) => s.key === shot.key)) continue;
       this.shots.push(shot);
       diagnostics.shots = this.shots.length;
       this.listShot(this.shots.length - 1);
@@ -74,7 +76,7 @@ class ReplayPage {
     const item = document.createElement("li");
     const link = document.createElement("a");
     link.href = `?shot=${i + 1}`;
-    link.textContent = decisionWords(this.view, shot.decision);
+    link.textContent = playedWords(this.view, shot);
     link.addEventListener("click", (e) => {
       e.preventDefault();
       this.show(i);
@@ -83,11 +85,14 @@ class ReplayPage {
     $("shots").append(item);
   }
 
-  /** Play shot i from its start (paused at its start if the replay is paused). */
+  /** Play shot i from its start (paused at its start if the replay is paused); a choice is
+   *  only told. */
   show(i) {
     this.animation?.stop();
+    this.animation = null;
     this.current = i;
     const shot = this.shots[i];
+    if (!shot.trajectory) return this.finished(i);
     this.sayShot(i, `${playerName(this.view, shot.seat)} plays.`);
     this.animation = new Animation(this.view3d, shot.trajectory, {
       speed: this.speed,
@@ -107,7 +112,7 @@ class ReplayPage {
     const shot = this.shots[i];
     this.animation = null;
     this.view3d.setBalls(shot.rest);
-    this.sayShot(i, decisionWords(this.view, shot.decision));
+    this.sayShot(i, playedWords(this.view, shot));
     diagnostics.shown = i;
     if (this.playing && i + 1 < this.shots.length) setTimeout(() => this.current === i && !this.animation && this.show(i + 1), 600 / this.speed);
   }
@@ -227,7 +232,7 @@ async function openRack(id, tables) {
 /** A table's outcome as a shot: after a rack's last shot the state is already the next
  * rack's, so it rests where the balls came to rest. */
 function outcomeShot(m) {
-  const rest = m.decision?.over ? endPositions(m.trajectory) : m.state.balls;
+  const rest = m.decision?.over && m.trajectory ? endPositions(m.trajectory) : m.state.balls;
   return { key: m.version, seat: m.seat, input: m.input, decision: m.decision, trajectory: m.trajectory, rest };
 }
 
@@ -235,7 +240,7 @@ async function openTable(id, tables) {
   const view = await get(`/api/tables/${id}`);
   const page = new ReplayPage(id, view, tableFor(tables, view.game, view.options.size));
   page.view3d.setBalls(view.state.balls);
-  new Subscription(view.channel, { onMessage: (m) => m.kind === KIND.OUTCOME && m.trajectory && page.add([outcomeShot(m)]) });
+  new Subscription(view.channel, { onMessage: (m) => m.kind === KIND.OUTCOME && page.add([outcomeShot(m)]) });
   return page;
 }
 

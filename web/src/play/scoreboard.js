@@ -1,11 +1,12 @@
-// The scoreboard over the status line: each side's name and score, who is to act, the shot
+// The scoreboard over the status line: each side's name and score (the points of the rack in
+// snooker and three-cushion, the racks won in pool), who is to act, the shot
 // clock, the options the table is played with ("race to 3, to 5 points"), and what a player of
 // each game looks at between shots: eight-ball's groups with the
 // balls each has left, snooker's ball on and the points left on the table. All read from the
 // server's state; nothing here decides what is legal.
 import { optionWords } from "../lib/options.js";
 import { nameElement } from "./profile.js";
-import { playerName } from "./words.js";
+import { playerName, racksWonWords, scoredInPoints, scoreUnit, seatScore } from "./words.js";
 
 /** Seconds left on the shot clock from which it is shown in alarm. */
 const URGENT_S = 5;
@@ -45,10 +46,15 @@ export function showScoreboard(box, v) {
     const player = v.seats[v.mode === "practice" ? 0 : seat]; // practice: one person, both sides
     name.append(nameElement(player, player ? playerName(v, seat) : "(open seat)"), gone);
     if (v.game === "eightball") name.append(span("group muted", ` ${groupWords(v.state, seat)}`));
-    box.append(name, span("score", String(v.state.scores[seat])));
+    const score = span("score", seatScore(v, seat));
+    score.title = scoreUnit(v.game);
+    box.append(name, score);
   }
   const options = optionWords(v.game, v.options ?? {});
   if (options) box.append(span("table-info options-words", `${options.charAt(0).toUpperCase()}${options.slice(1)}.`));
+  // Snooker's and three-cushion's scores are the rack's points: the frames (games) won too.
+  const won = scoredInPoints(v.game) ? racksWonWords(v) : "";
+  if (won) box.append(span("table-info racks-won", won));
   if (v.game === "snooker") box.append(span("table-info", snookerWords(v.state)));
   const clock = span("clock", "");
   clock.id = "clock";

@@ -1,8 +1,9 @@
 // One table as the client follows it: the full view from GET /api/tables/{id}, then the table
 // channel's messages applied strictly in version order (docs/protocol.md, "Versions and
-// resync"). A message one past ours is applied; an old one is ignored; a hole, or a gap the
-// relay reports, fetches the full view again. Outcomes are handed on one at a time, each after
-// the previous one's animation has finished.
+// resync"). A message one past ours is applied; an old one is ignored; a hole, a gap the
+// relay reports, or a presence, chat or aim message (or a heartbeat's answer) at a newer
+// version than ours fetches the full view again. Outcomes are handed on one at a time, each
+// after the previous one's animation has finished.
 import { get, post, shotId } from "../net/api.js";
 import { HEARTBEAT_MS, KIND } from "../net/protocol.js";
 import { Subscription } from "../net/relay.js";
@@ -54,27 +55,53 @@ export class TableSession {
       return;
     }
     const { kind } = message;
-    if (kind === KIND.CHAT) return this.h.onChat?.(message);
-    if (kind === KIND.PRESENCE) return this.h.onPresence?.(message);
-    if (kind === KIND.AIM) return message.version === this.version && this.h.onAim?.(message);
-    if (kind !== KIND.OUTCOME && kind !== KIND.TABLE) return;
+    if (kind === KIND.OUTCOME || kind === KIND.TABLE) return this.change(message);
+    this.catchUp(message);
+    if (kind === KIND.CHAT) this.h.onChat?.(message);
+    else if (kind === KIND.PRESENCE) this.h.onPresence?.(message);
+    else if (kind === KIND.AIM && message.version === this.version) this.h.onAim?.(message);
+  }
+
+  /** A message that carries the table's version without changing it (presence, chat, aim, a
+   *  heartbeat's answer): one newer than ours means a change never reached us (a relay that
+   *  lost its buffer in a restart says nothing of it), so fetch the table again. */
+  catchUp(message) {
+    if (message.version > this.version) this.resync();
+  }
+
+  /** An `outcome` or `table` message: applied in version order. */
+  change(message) {
     if (message.version <= this.version) return;
     if (message.version > this.version + 1) {
       this.resync();
       return;
     }
     this.version = message.version;
-    if (kind === KIND.TABLE) this.enqueue(() => this.h.onView(message.view));
+    if (message.kind === KIND.TABLE) this.enqueue(() => this.h.onView(message.view));
     else this.enqueue(() => this.h.onOutcome(message));
   }
 
-  async resync() {
-    try {
-      const view = await get(`/api/tables/${this.id}`);
-      if (view.version !== this.version) this.takeView(view);
-    } catch (e) {
-      console.warn("resync failed", e);
+  /** Fetch the whole view and take it if it is newer than ours. One fetch at a time (aim
+   *  messages come four a second, and each may ask for one): a request made meanwhile fetches
+   *  once more after it, since its change may be newer than the answer on its way. */
+  resync() {
+    if (this.resyncing) {
+      this.fetchAgain = true;
+      return this.resyncing;
     }
+    this.resyncing = (async () => {
+      do {
+        this.fetchAgain = false;
+        try {
+          const view = await get(`/api/tables/${this.id}`);
+          if (view.version > this.version) this.takeView(view);
+        } catch (e) {
+          console.warn("resync failed", e);
+        }
+      } while (this.fetchAgain);
+      this.resyncing = null;
+    })();
+    return this.resyncing;
   }
 
   /** Send an intent (a shot or a choice) for the version we show, under shot id `id`;
@@ -90,10 +117,14 @@ export class TableSession {
   /** Keep telling the server we are here while seated (the opponent sees us otherwise gone). */
   beat(seated) {
     if (seated && !this.heartbeat) {
-      // The answer is the table's presence, with the grace periods a reload would not know.
+      // The answer is the table's presence, with the grace periods a reload would not know,
+      // and the table's version: a newer one than ours is a change we missed.
       const send = () =>
         this.action("heartbeat")
-          .then((m) => this.h.onPresence?.(m))
+          .then((m) => {
+            this.catchUp(m);
+            this.h.onPresence?.(m);
+          })
           .catch(() => {});
       send();
       this.heartbeat = setInterval(send, HEARTBEAT_MS);

@@ -11,7 +11,6 @@ const ENDED_OFF_TABLE = ["resigned", "claimed"];
 export class TableState {
   constructor() {
     this.view = null; // the TableView as the last message applied leaves it
-    this.decided = null; // the last outcome with a referee's decision, or null
     this.grace = [null, null]; // per seat: when the opponent may claim (presence messages)
   }
 
@@ -23,17 +22,16 @@ export class TableState {
     else this.applyView(message.kind === KIND.TABLE ? message.view : message);
   }
 
+  /** A whole view replaces everything, its `last_outcome` too: null after a practice table's
+   *  re-rack, retake or set-up position, whose new rack has no input played yet. */
   applyView(view) {
     this.view = structuredClone(view);
-    const last = view.last_outcome;
-    if (last?.decision) this.decided = last;
   }
 
   applyOutcome(message) {
     const fields = ["state", "next", "rack", "racks_won", "status", "winner", "version"];
     for (const key of fields) this.view[key] = message[key];
     this.view.last_outcome = message;
-    if (message.decision) this.decided = message;
     // The outcome that ends a rack carries its replay, the table's next one in rack order.
     if (message.replay && !this.view.replays.includes(message.replay)) this.view.replays.push(message.replay);
     // A match an outcome ends was decided by its racks (the server's other endings, a
@@ -55,6 +53,12 @@ export class TableState {
     if (!v) return [];
     const cut = v.status === "over" && ENDED_OFF_TABLE.includes(v.ended) ? v.rack : null;
     return v.replays.map((id, i) => ({ rack: i + 1, id, unfinished: i + 1 === cut }));
+  }
+
+  /** The last input played on the table as its outcome told it (a shot with the referee's
+   *  decision, a choice, an input the engine refused), or null: what the status describes. */
+  get last() {
+    return this.view?.last_outcome ?? null;
   }
 
   /** The seat of player `me` ({id}), or null (a spectator, or nobody signed in). */

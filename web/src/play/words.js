@@ -2,10 +2,13 @@
 // read out by screen readers) and the scoreboard. Names are always set as text, never as HTML.
 import { BOTS, CLOCK_PREFIX } from "../net/protocol.js";
 
+/** The referee's choices (`next.options`, and a choice's input `{option}`), the one place
+ *  their words are written: the button that makes one, and what the pages say once it is
+ *  made (`other`: the name of the player the choice sends back to the table). */
 const OPTION_WORDS = {
-  play_on: "Play on",
-  play_again: "Make them play again",
-  replace: "Replace the balls",
+  play_on: { button: "Play on", chosen: () => "to play on" },
+  play_again: { button: "Make them play again", chosen: (other) => `to make ${other} play again` },
+  replace: { button: "Replace the balls", chosen: (other) => `to have the balls replaced and ${other} play again` },
 };
 
 /** What the referee's `visit` counts in each game. */
@@ -27,8 +30,15 @@ export function rackUnit(game) {
   return game === "snooker" ? "frame" : game === "three_cushion" ? "game" : "rack";
 }
 
+/** Whether the referee scores points within a rack (snooker, three-cushion). Pool's
+ *  `state.scores` stay 0: a pool player's score is the racks won (the view's `racks_won`). */
+export function scoredInPoints(game) {
+  return game === "snooker" || game === "three_cushion";
+}
+
+/** The label of the button that makes choice `option`. */
 export function optionWords(option) {
-  return OPTION_WORDS[option] ?? option;
+  return OPTION_WORDS[option]?.button ?? option;
 }
 
 /** "the 9", "a red", "the pink", "the cue ball". */
@@ -95,15 +105,35 @@ export function decisionWords(view, d) {
   if (points && view.game === "snooker") {
     out.push(d.points.map((p, seat) => (p ? `${creditedName(view, seat)} +${p}` : null)).filter(Boolean).join(", ") + ".");
   }
-  if (d.over && d.winner != null) out.push(`${creditedName(view, d.winner)} wins the ${view.game === "snooker" ? "frame" : "rack"}.`);
+  if (d.over && d.winner != null) out.push(`${creditedName(view, d.winner)} wins the ${rackUnit(view.game)}.`);
   return out.join(" ");
 }
 
-/** An outcome's words (its decision's), after why the server played it if it did: the shot id
- *  `clock:<version>` is the stroke played for a seat whose shot clock ran out. */
+/** A choice made by the player in `seat` (a choice has no decision): who chose what. */
+export function choiceWords(view, seat, option) {
+  const who = creditedName(view, seat);
+  const words = OPTION_WORDS[option];
+  if (!words) return `${who} chose ${option}.`;
+  // On a practice table one person plays both sides: the choice sends back the other side.
+  const other = view.mode === "practice" ? "the other side" : seatName(view, 1 - seat);
+  return `${who} chose ${words.chosen(other)}.`;
+}
+
+/** One input played, {seat, input, decision} (an outcome, a replay's shot): the referee's
+ *  decision for a shot, who chose what for a choice. */
+export function playedWords(view, played) {
+  if (played.decision) return decisionWords(view, played.decision);
+  if (played.input?.option) return choiceWords(view, played.seat, played.input.option);
+  return "";
+}
+
+/** An outcome's words, after why the server played it if it did: the shot id
+ *  `clock:<version>` is the input played for a seat whose shot clock ran out. An input the
+ *  engine refused (`void`) changed nothing but the version. */
 export function outcomeWords(view, outcome) {
   const clock = outcome.shot_id?.startsWith(CLOCK_PREFIX) ? `${seatName(view, outcome.seat)}'s shot clock ran out. ` : "";
-  return clock + decisionWords(view, outcome.decision);
+  if (outcome.void) return `${clock}The shot could not be played (${outcome.void}).`;
+  return clock + playedWords(view, outcome);
 }
 
 /** Who acts next and how, in words ("Ada to shoot, ball in hand behind the head string."). */
@@ -122,13 +152,37 @@ export function nextWords(view) {
   return `${who} to shoot${hand}.`;
 }
 
-/** The score line: racks or frames won, points in the rack, and the current break (the
- *  referee's `visit`: snooker's break, three-cushion's run, pool's balls in one visit). */
+/** What the scoreboard shows beside the referee's player `player`: the points of the rack
+ *  (snooker, three-cushion), or in pool the racks won; nothing in pool practice, where no rack
+ *  counts for anyone. */
+export function seatScore(view, player) {
+  if (scoredInPoints(view.game)) return String(view.state.scores[player]);
+  return view.mode === "practice" ? "" : String(view.racks_won[player]);
+}
+
+/** What the scoreboard's numbers count in `game`, for its tooltip. */
+export function scoreUnit(game) {
+  return scoredInPoints(game) ? "points in this " + rackUnit(game) : "racks won";
+}
+
+/** The racks (frames, games) each player has won, "Frames won: Ada 1, Bob 0.", where they
+ *  count: in a match (against a person or the bot), and in a points game only in a race to
+ *  more than one (where they are not the score); else "". */
+export function racksWonWords(view) {
+  if (view.mode === "practice" || (scoredInPoints(view.game) && !(view.options?.race_to > 1))) return "";
+  const unit = rackUnit(view.game);
+  const won = [0, 1].map((player) => `${playerName(view, player)} ${view.racks_won[player]}`).join(", ");
+  return `${unit.charAt(0).toUpperCase()}${unit.slice(1)}s won: ${won}.`;
+}
+
+/** The score line: points in the rack (snooker, three-cushion), the racks, frames or games
+ *  won, and the current break (the referee's `visit`: snooker's break, three-cushion's run,
+ *  pool's balls in one visit). */
 export function scoreWords(view) {
   const s = view.state;
-  const scores = [0, 1].map((player) => `${playerName(view, player)} ${s.scores[player]}`).join(", ");
-  const unit = view.game === "snooker" || view.game === "three_cushion" ? "points" : "racks";
-  const race = view.options?.race_to > 1 ? ` Racks won ${view.racks_won.join("-")}.` : "";
-  const best = view.mode === "practice" && Math.max(...s.best) > 0 ? ` Best ${BREAK_WORDS[view.game]}: ${Math.max(...s.best)}.` : "";
-  return `Score (${unit}): ${scores}. Current ${BREAK_WORDS[view.game]}: ${s.visit}.${best}${race}`;
+  const out = [];
+  if (scoredInPoints(view.game)) out.push(`Score (points): ${[0, 1].map((player) => `${playerName(view, player)} ${s.scores[player]}`).join(", ")}.`);
+  out.push(racksWonWords(view), `Current ${BREAK_WORDS[view.game]}: ${s.visit}.`);
+  if (view.mode === "practice" && Math.max(...s.best) > 0) out.push(`Best ${BREAK_WORDS[view.game]}: ${Math.max(...s.best)}.`);
+  return out.filter(Boolean).join(" ");
 }
