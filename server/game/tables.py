@@ -20,6 +20,7 @@ from server.protocol.ids import (
     BOT_LEVELS,
     PRESENCE_TIMEOUT,
     REMATCH_LAPSE,
+    TURN_LIMIT,
     BotName,
     derived_table_id,
     table_channel,
@@ -336,8 +337,11 @@ def bump(record: TableRecord, **changes: object) -> TableRecord:
 
 
 def next_deadline(record: TableRecord) -> float | None:
-    """When the shot clock of the seat to act runs out, from now (None: no clock, no turn)."""
+    """When the shot clock of the seat to act runs out, from now: a match without one has the
+    `TURN_LIMIT` (None: practice or bot table without a clock, or no turn)."""
     clock = record.options.shot_clock
+    if not clock and record.mode is Mode.MATCH:
+        clock = TURN_LIMIT
     return time.time() + clock if clock and acting_seat(record) is not None else None
 
 

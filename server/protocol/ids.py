@@ -202,6 +202,10 @@ THREE_CUSHION_TARGET = DEFAULT_TARGET
 THREE_CUSHION_TARGETS = (5, 7, 10, 15, 25, 40)
 #: The shot clocks the pages offer when a table or challenge is made (s; 0: none).
 SHOT_CLOCKS = (0, 30, 60, 120)
+#: Seconds the player to act at a match with no shot clock has before the clock plays for them
+#: (the timeout input): a player who is there but never acts cannot hold the match, whose
+#: opponent could otherwise only resign. Practice and bot tables hold nobody else: none.
+TURN_LIMIT = 300
 #: Rated matches whose ratings a profile's graph shows (the player's most recent, every game).
 PROFILE_HISTORY = 200
 #: Pool's table sizes in feet (the games played on them), and the standard one, which the

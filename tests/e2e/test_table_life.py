@@ -75,6 +75,8 @@ def test_a_private_table_is_played_through_its_link(browser, server, console):
         assert not view["last_outcome"]["shot_id"].startswith(("clock:", "bot:"))
         wait_version(ada, view["version"])
         assert ada.locator("#invite").count() == 0  # the invitation is gone once it is taken
+        # No shot clock: the match's turn limit runs instead, and the page says which it is.
+        assert re.fullmatch(r"Turn limit \d+ s", ada.locator("#clock").inner_text())
     finally:
         for c in contexts:
             c.close()

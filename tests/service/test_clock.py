@@ -11,6 +11,7 @@ from aiohttp.test_utils import TestClient
 from server.client.api_client import from_json
 from server.game import clock, refereeing
 from server.game.commands import ClockExpiry
+from server.protocol.ids import TURN_LIMIT
 from server.storage.sqlite import SqliteStorage
 from tests.service.conftest import StartServer, register, service_of, up_a_while, watch
 
@@ -105,6 +106,28 @@ def test_the_timeout_input_hits_nothing_in_every_game_and_places_a_ball_in_hand(
     action = refereeing.timeout_input(in_hand)
     assert action.place is not None
     refereeing.check(in_hand, action)
+
+
+async def test_a_match_without_a_shot_clock_has_a_turn_limit(server: TestClient) -> None:
+    """Before: at a match with no shot clock, a player who was there but never shot (or never
+    chose) held it for ever, the opponent's one way out a rated resignation. Practice and bot
+    tables, where nobody else waits, have no limit."""
+    ada, bob = await register(server, "Ada"), await register(server, "Bob")
+    table = await ada.create("nineball")
+    _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+    assert view["options"]["shot_clock"] == 0
+    assert view["next"]["deadline"] == pytest.approx(time.time() + TURN_LIMIT, abs=30)
+    for mode in ("practice", "bot"):
+        alone = await ada.create("nineball", mode=mode)
+        assert alone["next"]["deadline"] is None, mode
+    storage = service_of(server).storage
+    record = await storage.get_table(view["id"])
+    expired = record.model_copy(update={"version": record.version + 1, "deadline": time.time()})
+    watcher = await watch(server, view["channel"])
+    assert await storage.update(expired)
+    outcome = await watcher.next_kind("outcome")
+    assert outcome["shot_id"] == f"clock:{expired.version:08d}" and outcome["next"]["seat"] == 1
+    assert outcome["next"]["deadline"] == pytest.approx(time.time() + TURN_LIMIT, abs=30)
 
 
 def test_the_timeout_input_calls_a_pocket_for_the_eight() -> None:

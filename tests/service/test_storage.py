@@ -514,7 +514,7 @@ async def test_a_memory_database_is_one_database_for_both_connections_and_gone_o
     connection writes, the thread's reads, and the other way round; a second such storage
     is another database; closing removes its file."""
     storage, other = await SqliteStorage.open(":memory:"), await SqliteStorage.open(":memory:")
-    record = join(a_table(), BOB)
+    record = join(a_table(), BOB).model_copy(update={"deadline": None})  # none falls due
     try:
         await storage.create_table(record)  # the loop's connection
         await storage.heartbeat(record.id, 0, 5.0)

@@ -159,10 +159,14 @@ def test_a_choice_is_told_who_chose_what():
     snooker = table_view(game="snooker", state={**STATE, "game": "snooker"})
     told = node(WORDS, {"view": snooker, "outcome": replace})["outcome"]
     assert told == "Bob chose to have the balls replaced and Ada play again."
-    # The shot clock chose for Bob: said so, then what was chosen.
+    # The shot clock chose for Bob: said so, then what was chosen; at a match without a shot
+    # clock, its turn limit.
     clock = {**replace, "shot_id": "clock:00000005", "input": {"option": "play_on"}}
-    told = node(WORDS, {"view": snooker, "outcome": clock})["outcome"]
+    clocked = {**snooker, "options": {**snooker["options"], "shot_clock": 30}}
+    told = node(WORDS, {"view": clocked, "outcome": clock})["outcome"]
     assert told == "Bob's shot clock ran out. Bob chose to play on."
+    told = node(WORDS, {"view": snooker, "outcome": clock})["outcome"]
+    assert told == "Bob's turn limit ran out. Bob chose to play on."
 
 
 def test_each_game_scores_what_its_players_win():

@@ -6,7 +6,7 @@
 // server's state; nothing here decides what is legal.
 import { optionWords } from "../lib/options.js";
 import { nameElement } from "./profile.js";
-import { playerName, racksWonWords, scoredInPoints, scoreUnit, seatScore } from "./words.js";
+import { clockName, playerName, racksWonWords, scoredInPoints, scoreUnit, seatScore } from "./words.js";
 
 /** Seconds left on the shot clock from which it is shown in alarm. */
 const URGENT_S = 5;
@@ -68,6 +68,6 @@ export function showClock(v) {
   const deadline = v?.next?.deadline;
   if (!clock) return;
   const left = deadline ? Math.max(0, Math.ceil(deadline - Date.now() / 1000)) : null;
-  clock.textContent = left === null ? "" : `Shot clock ${left} s`;
+  clock.textContent = left === null ? "" : `${clockName(v)} ${left} s`;
   clock.classList.toggle("urgent", left !== null && left <= URGENT_S);
 }

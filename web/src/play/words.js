@@ -128,12 +128,19 @@ export function playedWords(view, played) {
 }
 
 /** An outcome's words, after why the server played it if it did: the shot id
- *  `clock:<version>` is the input played for a seat whose shot clock ran out. An input the
- *  engine refused (`void`) changed nothing but the version. */
+ *  `clock:<version>` is the input played for a seat whose shot clock ran out (at a match
+ *  without one, its turn limit). An input the engine refused (`void`) changed nothing but the
+ *  version. */
 export function outcomeWords(view, outcome) {
-  const clock = outcome.shot_id?.startsWith(CLOCK_PREFIX) ? `${seatName(view, outcome.seat)}'s shot clock ran out. ` : "";
+  const limit = clockName(view).toLowerCase();
+  const clock = outcome.shot_id?.startsWith(CLOCK_PREFIX) ? `${seatName(view, outcome.seat)}'s ${limit} ran out. ` : "";
   if (outcome.void) return `${clock}The shot could not be played (${outcome.void}).`;
   return clock + playedWords(view, outcome);
+}
+
+/** What runs out for the player to act: the table's shot clock, or a match's turn limit. */
+export function clockName(view) {
+  return view?.options?.shot_clock ? "Shot clock" : "Turn limit";
 }
 
 /** Who acts next and how, in words ("Ada to shoot, ball in hand behind the head string."). */
