@@ -95,8 +95,8 @@ def creator(record: TableRecord) -> str | None:
 def alone(record: TableRecord) -> str | None:
     """The one person at a table no other person sits at (open, practice, against the bot):
     whoever makes such a table makes it alone, as many as the create limit lets them."""
-    people = [seat.id for seat in record.seats if seat is not None and not tables.is_bot(seat)]
-    return people[0] if len(people) == 1 else None
+    seated = tables.people(record)
+    return seated[0] if len(seated) == 1 else None
 
 
 def fair_share(listed: list[TableRecord]) -> list[TableRecord]:

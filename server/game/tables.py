@@ -146,11 +146,16 @@ def has_bot(record: TableRecord) -> bool:
     return any(seat is not None and is_bot(seat) for seat in record.seats)
 
 
+def people(record: TableRecord) -> list[str]:
+    """The ids of the players of flesh seated at the table (not a bot, not an empty seat)."""
+    return [seat.id for seat in record.seats if seat is not None and not is_bot(seat)]
+
+
 def holder(record: TableRecord) -> str:
     """Whom a bot table's work is counted against: its player of flesh (the table itself if
     it has none seated)."""
-    people = [seat.id for seat in record.seats if seat is not None and not is_bot(seat)]
-    return people[0] if people else record.id
+    seated_people = people(record)
+    return seated_people[0] if seated_people else record.id
 
 
 def chooser_of(bot: PlayerInfo) -> str:
