@@ -345,8 +345,10 @@ class TableActor:
 
         The answer goes to `ack` as soon as the input is accepted, before it is played; the
         job then plays it, so the actor's next command sees the table after it."""
-        for _ in range(CAS_TRIES):
+        for attempt in range(CAS_TRIES):
             record = await self._settled()
+            if attempt == 0 and record.mode is Mode.PRACTICE and move.on_time:
+                take(self._context.practice, move.player.id)  # a client's shot, once
             answer = await self._admit(record, move)
             if answer is not None:
                 break
@@ -364,8 +366,6 @@ class TableActor:
         """The record with the input accepted, its first answer if it is a resend, or None
         if another replica changed the table meanwhile. ServiceError for a refusal."""
         storage = self._context.storage
-        if record.mode is Mode.PRACTICE and move.on_time:  # a client's shot, not the clock's
-            take(self._context.practice, move.player.id)
         try:
             entry = validate(record, move, self._context.replica)
             if move.on_time and record.deadline is not None and time.time() > record.deadline:

@@ -27,7 +27,8 @@ Claims cost a worker seconds, so the cheap refusals come first (server/http/api.
 `claim_break`, then here): the token; the claim's rate per player (`LIMITS["claim"]`,
 server/game/service.py); the worker time left to the player and to its address (at most
 `CLAIM_SECONDS` per minute each, `WorkBudget`, charged with the replays and with the time
-parsing the claims took), before the body is read; a body whose very
+parsing the claims took) and the event loop's share for parsing all claims (`PARSE_SECONDS`),
+before the body is read and again once it is in; a body whose very
 bytes were refused before as a duplicate or a mismatch (`refused_before`), before it is
 parsed; the setup; the verdict of a record replayed here before (remembered by its digest:
 a repeated claim, duplicate or wrong, costs no replay); and only then a replay, in the
@@ -78,6 +79,12 @@ from server.storage import Storage
 MAX_VERIFYING = 1
 #: Seconds of worker time per minute the claims of one player, or of one address, may take.
 CLAIM_SECONDS = 10.0
+#: Seconds per minute that parsing claims may hold this process's event loop, all claimants
+#: together: a 1 MiB record takes about 80 ms to parse, and the holders' own buckets bound each
+#: of them, not how many there are. Past it every claim waits (429) and the matches do not.
+PARSE_SECONDS = 3.0
+#: The one holder of `PARSE_SECONDS`.
+EVERYONE = "everyone"
 #: Verdicts of replayed records remembered per process (a repeated claim is refused from here).
 KNOWN_RECORDS = 4096
 #: Breaks a leaderboard answer or message lists by default, and at most.
@@ -114,6 +121,8 @@ class Breaks:
         self._verifying = 0
         #: Worker seconds each player and address may spend on claims per minute.
         self.budget = WorkBudget(CLAIM_SECONDS, "your claims")
+        #: The event loop's time all claims may spend parsing per minute.
+        self.parsing = WorkBudget(PARSE_SECONDS, "claims from everyone")
         #: Records replayed for claims by this process (what the cheap refusals save).
         self.replayed = 0
         #: Refusals any claimant gets, by the digest of the claim's bytes (`refused_before`).
@@ -175,6 +184,17 @@ class Breaks:
                 added.append(entry.score)
         await self._announce(record.game, added)
         return replay
+
+    def may_parse(self, *holders: str) -> None:
+        """RATE_LIMITED if `holders` (a player, an address) have spent their claims' time, or
+        all claims the event loop's share for parsing them."""
+        self.budget.check(*holders)
+        self.parsing.check(EVERYONE)
+
+    def parsed(self, seconds: float, *holders: str) -> None:
+        """Charge a parse that took `seconds` to `holders` and to the event loop's share."""
+        self.budget.charge(seconds, *holders)
+        self.parsing.charge(seconds, EVERYONE)
 
     def refused_before(self, body: bytes) -> None:
         """Refuse at once a claim whose very bytes were refused as a duplicate or a mismatch

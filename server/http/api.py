@@ -396,24 +396,25 @@ async def best_break(request: web.Request) -> web.Response:
 
 
 async def claim_break(request: web.Request) -> web.Response:
-    """Refused in order of cost: the token, the claim rate, the holder's worker time, a body
-    refused before; then the body is parsed and `Breaks.claim` goes on."""
+    """Refused in order of cost: the token, the claim rate, the holder's worker time and the
+    event loop's share for claims, a body refused before; then the body is parsed and
+    `Breaks.claim` goes on."""
     player = await player_of(request)
     service = service_of(request)
     service.throttle("claim", player.id)
     address = client_address(request, relay_of(request).trusted_proxies)
-    service.breaks.budget.check(player.id, address)
+    breaks = service.breaks
+    breaks.may_parse(player.id, address)
     data = await read_body(request, MAX_RECORD_BODY)
-    service.breaks.refused_before(data)
-    budget = service.breaks.budget
+    breaks.refused_before(data)
     # Again, now that the body is in: claims read at once all passed the first check before
     # any of their parses was charged (before, 100 of them from one address took 12 s).
-    budget.check(player.id, address)
-    began = budget.clock()
+    breaks.may_parse(player.id, address)
+    began = breaks.budget.clock()
     try:  # parsing a long record takes the event loop tens of ms: the holder's time too
         claim = parse_body(data, ClaimRequest)
     finally:
-        budget.charge(budget.clock() - began, player.id, address)
+        breaks.parsed(breaks.budget.clock() - began, player.id, address)
     return answer(await service.breaks.claim(player, address, claim, data), 201)
 
 

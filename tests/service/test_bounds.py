@@ -114,3 +114,29 @@ async def test_one_players_bot_tables_search_one_at_a_time(server: TestClient) -
     assert most == {"Ada": 1, "Bob": 1} and both.is_set()
     await service.matches.idle()
     assert len(service.matches.context.bot_turns) == 0  # no lock kept for nobody
+
+
+async def test_a_practice_shot_that_meets_a_conflict_is_counted_once(server: TestClient) -> None:
+    """A shot whose compare-and-set meets another write to the table is looked at again (here
+    it is then stale): one shot of the player's limit all the same. Before, each look took one."""
+    ada = await register(server, "Ada")
+    view = await ada.create("nineball", mode="practice")
+    storage = service_of(server).matches.context.storage
+    accept = storage.accept
+    conflicts = 0
+
+    async def accept_after_another_write(record):  # another replica wrote the table first
+        nonlocal conflicts
+        if not conflicts:
+            conflicts += 1
+            stored = await storage.get_table(record.id)
+            assert await storage.update(stored.model_copy(update={"version": stored.version + 1}))
+        return await accept(record)
+
+    storage.accept = accept_after_another_write
+    limiter = service_of(server).matches.context.practice
+    before = limiter._buckets.get(ada.info["id"], (float(limiter.burst), 0.0))[0]
+    status, body = await ada.shoot(view["id"], view["version"], picked(view))
+    assert (status, body["code"], conflicts) == (409, "stale_version", 1)
+    spent = before - limiter._buckets[ada.info["id"]][0]
+    assert 0.5 < spent <= 1.0  # one token, less what refilled meanwhile

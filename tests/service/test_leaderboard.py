@@ -258,3 +258,24 @@ async def test_an_entry_below_a_full_top_is_neither_read_nor_announced(server: T
     assert second["game"] == "snooker"
     await breaks._announce("nineball", [9])
     assert (await board.next_kind("leaderboard"))["game"] == "nineball"
+
+
+async def test_claims_from_everyone_share_a_bounded_part_of_the_event_loop(
+    server: TestClient,
+) -> None:
+    """Each holder's own time bounds its claims, not how many holders there are: claims from
+    fresh players and addresses could otherwise keep the event loop parsing. Past the share of
+    all claims, anyone's claim waits (429) before its body is parsed."""
+    record, best = _record(3)
+    breaks = service_of(server).breaks
+    breaks.budget = WorkBudget(100.0, "your claims", Ticks())  # a parse costs 1 s on this clock
+    breaks.parsing = WorkBudget(1.5, "claims from everyone", lambda: 0.0)  # nothing refills
+    for more, name in enumerate(("Cy", "Dee"), 1):
+        player = await register(server, name)
+        assert (await _claim(player, record, best + more))[:2] == (422, "claim_mismatch")
+    replayed = breaks.replayed
+    eve = await register(server, "Eve")
+    status, code, body = await _claim(eve, record, best)
+    assert (status, code) == (429, "rate_limited"), body
+    assert "everyone" in body["reason"]
+    assert breaks.replayed == replayed
