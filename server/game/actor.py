@@ -291,7 +291,10 @@ class TableActor:
                 move = Move(player, intent.version, intent.shot_id, intent.input)
                 return await self._play(move, done)
             case commands.Join(player):
-                return await self._change(lambda r: tables.join(r, player))
+                seen = await self._context.seen(self.table_id)
+                return await self._change(
+                    lambda r: tables.join_waiting(r, player, seen, time.time())
+                )
             case commands.Leave(player):
                 return await self._change(lambda r: tables.leave(r, player))
             case commands.Resign(player):

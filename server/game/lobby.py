@@ -21,6 +21,7 @@ import logging
 import secrets
 import time
 from collections import Counter
+from collections.abc import Awaitable, Callable
 from contextlib import AbstractAsyncContextManager
 
 from server.game import tables
@@ -122,6 +123,9 @@ class Lobby:
         self._storage = storage
         self._publisher = publisher
         self._dirty = asyncio.Event()
+        #: Each seat's last heartbeat of a table, as presence counts it (the service sets the
+        #: matches' `MatchContext.seen`, which counts no heartbeat older than the process).
+        self.seen: Callable[[str], Awaitable[tables.Seen]] = storage.heartbeats
 
     def changed(self) -> None:
         """Something the lobby shows changed: a snapshot goes out within `BATCH` seconds."""
@@ -154,9 +158,14 @@ class Lobby:
         return max(0, readers - seated)
 
     async def tables(self) -> TableList:
+        """The listed tables the lobby shows (`fair_share`), less those whose players have
+        left (`tables.shown`)."""
         listed = fair_share(await self._storage.listed_tables(SCANNED))
+        now = time.time()
         summaries: list[TableSummary] = [
-            tables.summary(record, await self.spectators(record)) for record in listed
+            tables.summary(record, await self.spectators(record))
+            for record in listed
+            if tables.shown(record, await self.seen(record.id), now)
         ]
         return TableList(tables=summaries)
 

@@ -126,6 +126,7 @@ async def running_service(
         practice=limits["practice"],
         grace=grace,
     )
+    lobby.seen = context.seen
     service = Service(
         storage=storage,
         pool=pool,

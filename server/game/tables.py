@@ -208,6 +208,19 @@ def seat_of(record: TableRecord, player_id: str) -> int | None:
     return None
 
 
+def join_waiting(record: TableRecord, player: PlayerInfo, seen: Seen, now: float) -> TableRecord:
+    """`join` an open table whose player is still there (`waiting`; `seen` its heartbeats)."""
+    if (
+        seat_of(record, player.id) is None
+        and record.status is Status.OPEN
+        and not waiting(record, seen, now)
+    ):
+        raise ServiceError(
+            ErrorCode.WRONG_PHASE, "the player who opened this table has left: it waits for them"
+        )
+    return join(record, player)
+
+
 def join(record: TableRecord, player: PlayerInfo) -> TableRecord:
     """The table with `player` in its free seat, started; ServiceError if it cannot be."""
     if seat_of(record, player.id) is not None:
@@ -408,6 +421,22 @@ def presence(record: TableRecord, seen: Seen, now: float) -> tuple[bool, bool]:
         for occupant, when in zip(record.seats, last, strict=True)
     ]
     return here[0], here[1]
+
+
+def waiting(record: TableRecord, seen: Seen, now: float) -> bool:
+    """Whether the player who opened an open table is still there: their last heartbeat, else
+    the table's creation, within `PRESENCE_TIMEOUT`. A table its player has left is neither
+    joined nor shown (before, whoever joined one that had waited for hours sat at a match the
+    other could not know of, and claimed it as soon as the grace ran out)."""
+    return now - (seen[0] or record.created) < PRESENCE_TIMEOUT
+
+
+def shown(record: TableRecord, seen: Seen, now: float) -> bool:
+    """Whether the lobby shows a listed table: an open one while its player waits, a started
+    one while anyone plays at it (not one all its players have left, until it expires)."""
+    if record.status is Status.OPEN:
+        return waiting(record, seen, now)
+    return attended(record, seen, now)
 
 
 def attended(record: TableRecord, seen: Seen, now: float) -> bool:

@@ -12,7 +12,7 @@ from server.game import lobby, tables
 from server.game.lobby import BATCH, OPEN_PER_PLAYER
 from server.protocol.ids import new_table_id
 from server.protocol.models import Mode, PlayerInfo, TableCreate
-from tests.service.conftest import StartServer, Watcher, register, service_of, watch
+from tests.service.conftest import StartServer, Watcher, register, service_of, up_a_while, watch
 
 
 async def test_one_hundred_simultaneous_quick_match_requests_seat_everyone_once(
@@ -195,3 +195,34 @@ async def test_one_players_tables_alone_do_not_push_the_others_out_of_the_lobby(
     assert adas["id"] in {table["id"] for table in listed}
     by_flooder = [t["id"] for t in listed if any(s and s["id"] == flooder.id for s in t["seats"])]
     assert len(by_flooder) == OPEN_PER_PLAYER and set(by_flooder) <= set(made)
+
+
+async def test_a_table_its_players_have_left_is_neither_shown_nor_joined(
+    server: TestClient,
+) -> None:
+    """Before: an open table stayed in the lobby until it expired (7 days) after its player
+    had gone, and whoever joined it sat at a match against nobody there, which they claimed
+    as soon as the grace ran out: a rated win, a rated loss for the one who had left. So did a
+    match both players had left, shown as being played."""
+    ada, bob = await register(server, "Ada"), await register(server, "Bob")
+    waiting = await ada.create("nineball")
+    await ada.call("POST", f"/api/tables/{waiting['id']}/heartbeat", expect=200)
+    left = await ada.create("nineball")
+    storage = service_of(server).storage
+    up_a_while(server)
+    await storage.heartbeat(left["id"], 0, time.time() - 3600)  # Ada left an hour ago
+
+    async def shown() -> set[str]:
+        return {t["id"] for t in (await (await server.get("/api/tables")).json())["tables"]}
+
+    assert waiting["id"] in await shown() and left["id"] not in await shown()
+    status, body = await bob.call("POST", f"/api/tables/{left['id']}/join")
+    assert (status, body["code"]) == (409, "wrong_phase")
+    assert (await (await server.get(f"/api/tables/{left['id']}")).json())["status"] == "open"
+    await ada.call("POST", f"/api/tables/{left['id']}/heartbeat", expect=200)  # she is back
+    assert left["id"] in await shown()
+    _, joined = await bob.call("POST", f"/api/tables/{left['id']}/join", expect=200)
+    assert joined["status"] == "playing" and left["id"] in await shown()
+    for seat in (0, 1):  # both leave the match
+        await storage.heartbeat(left["id"], seat, time.time() - 3600)
+    assert left["id"] not in await shown()
