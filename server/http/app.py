@@ -17,14 +17,17 @@ from server.game.tables import GRACE
 from server.http.api import mount_api
 from server.http.logs import one_line_bad_requests
 from server.http.pages import mount_web
+from server.protocol.ids import LOBBY
 from server.relay import Backend, BackendConfig, MemoryBackend, Relay, RelaySettings, mount_relay
 
 #: The buffer of every channel the game service uses: the relay's 100 messages, and at most
 #: 4 MiB of their data. A table channel's outcomes carry trajectories (an eight-ball break's is
 #: some 40 KB, a long snooker visit's far more), so a count alone would let one table hold 100
 #: of the largest; 4 MiB is still several racks of outcomes. A client resuming from further
-#: back is told of the gap and fetches the table's state (docs/protocol.md).
-SERVICE_BUFFER = BackendConfig(buffer_bytes=4 * 1024 * 1024)
+#: back is told of the gap and fetches the table's state (docs/protocol.md). The lobby's
+#: channel keeps only its newest snapshot, which replaces the last: a lobby page opened would
+#: otherwise be sent the 100 last snapshots (700 KB with a busy lobby) to draw each in turn.
+SERVICE_BUFFER = BackendConfig(buffer_bytes=4 * 1024 * 1024, last_value=frozenset({LOBBY}))
 
 
 def relay_settings(**fields: object) -> RelaySettings:

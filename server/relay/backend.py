@@ -12,7 +12,8 @@ What a backend must guarantee
    created (a deleted channel starts afresh), even across process or Redis restarts and clock
    steps backwards. Messages of a channel are delivered to
    every subscriber in id order.
-2. **Bounded buffer.** A channel keeps at most `config.buffer_length` messages, none older than
+2. **Bounded buffer.** A channel keeps at most `config.buffer_length` messages (one, the
+   newest, if it is one of `config.last_value`), none older than
    `config.message_ttl` seconds, and at most `config.buffer_bytes` bytes of message data (the
    newest message is always kept, whatever its size). Older ones are dropped ("evicted"), and
    the backend remembers the newest id it ever evicted from each channel.
@@ -83,10 +84,19 @@ class BackendConfig(BaseModel):
         description="bytes of message data kept per channel (the newest message is always kept)",
     )
     message_ttl: float = Field(default=3600.0, gt=0, description="seconds a message is kept")
+    last_value: frozenset[str] = Field(
+        default=frozenset(),
+        description="channels that keep only their newest message, each replacing the last "
+        "(a lobby's snapshots): a new subscriber gets that one, not a backlog of stale ones",
+    )
     backlog_page: int = Field(default=4, ge=1, description="messages read at a time to resume")
     backlog_reads: int = Field(
         default=8, ge=1, description="backlog pages being read at once in one process"
     )
+
+    def length_of(self, channel: str) -> int:
+        """The most messages `channel` keeps (invariant 2)."""
+        return 1 if channel in self.last_value else self.buffer_length
 
 
 class Start(StrEnum):

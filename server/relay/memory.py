@@ -44,12 +44,13 @@ class MemoryBackend(Backend):
         self._clock = clock
         self._channels: dict[str, _Channel] = {}
 
-    def _expire(self, state: _Channel, now: float) -> None:
+    def _expire(self, channel: str, state: _Channel, now: float) -> None:
         config = self.config
         oldest_allowed = now - config.message_ttl
         messages = state.messages
+        length = config.length_of(channel)
         while messages and (
-            len(messages) > config.buffer_length
+            len(messages) > length
             or (state.data_bytes > config.buffer_bytes and len(messages) > 1)
             or messages[0][4] < oldest_allowed
         ):
@@ -76,7 +77,7 @@ class MemoryBackend(Backend):
             state.born_key = key
         state.messages.append((key, message_id, content_type, data, now, event))
         state.data_bytes += len(data)
-        self._expire(state, now)
+        self._expire(channel, state, now)
         subscribers = self.local_subscribers(channel)
         self._fan_out(channel, message)
         info = self._info(state, now, subscribers, message_id)
@@ -89,7 +90,7 @@ class MemoryBackend(Backend):
             return Backlog(messages=[], gap=unknown_history(after, None))
         now = self._clock()
         state.requested_at = now
-        self._expire(state, now)
+        self._expire(channel, state, now)
         newer = [entry for entry in state.messages if after is None or entry[0] > after]
         page = [
             StoredMessage(channel, id_, type_, data, time_, event, key)
@@ -116,7 +117,7 @@ class MemoryBackend(Backend):
         if state is None:
             return None
         now = self._clock()
-        self._expire(state, now)
+        self._expire(channel, state, now)
         if not state.messages and not subscribers:
             return None
         return self._info(state, now, subscribers)

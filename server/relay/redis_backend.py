@@ -438,15 +438,20 @@ class RedisBackend(Backend):
         self._heartbeat: asyncio.Task[None] | None = None
         self._unsynced: set[str] = set()
         self._closing: set[asyncio.Future[int]] = set()  # deletes seen by the reader
+        self._encoded_bounds: dict[int, tuple[bytes, ...]] = {}  # `_publish_bounds`, by length
 
-    @property
-    def _bounds(self) -> list[Any]:
-        return [self.config.buffer_length, self.config.message_ttl, self.config.buffer_bytes]
+    def _bounds(self, channel: str) -> list[Any]:
+        config = self.config
+        return [config.length_of(channel), config.message_ttl, config.buffer_bytes]
 
-    @functools.cached_property
-    def _publish_bounds(self) -> tuple[bytes, ...]:
-        """The publish script's arguments before the message's, encoded once."""
-        return _encoded((*self._bounds, ALIVE_S, IDLE_KEY_S))
+    def _publish_bounds(self, length: int) -> tuple[bytes, ...]:
+        """The publish script's arguments before the message's, encoded once per length."""
+        found = self._encoded_bounds.get(length)
+        if found is None:
+            config = self.config
+            bounds = (length, config.message_ttl, config.buffer_bytes, ALIVE_S, IDLE_KEY_S)
+            found = self._encoded_bounds[length] = _encoded(bounds)
+        return found
 
     @functools.cached_property
     def _publish_tail(self) -> tuple[bytes, ...]:
@@ -459,7 +464,12 @@ class RedisBackend(Backend):
         try:
             message_args = (content_type, data, event or "", channel)
             reply = await self._publish(
-                _publish_keys(channel), (*self._publish_bounds, *message_args, *self._publish_tail)
+                _publish_keys(channel),
+                (
+                    *self._publish_bounds(self.config.length_of(channel)),
+                    *message_args,
+                    *self._publish_tail,
+                ),
             )
         except REDIS_DOWN as error:
             raise _unavailable(error) from None
@@ -491,7 +501,7 @@ class RedisBackend(Backend):
         keys = _keys(channel)
         with _store_errors():
             entries, evicted, more, born = await self._read_since(
-                keys=[keys["stream"], keys["meta"]], args=[*self._bounds, start, limit]
+                keys=[keys["stream"], keys["meta"]], args=[*self._bounds(channel), start, limit]
             )
         messages = [_stored(channel, stream_id, fields) for stream_id, fields in entries]
         after = None if last_id is None else parse_message_id(last_id)
@@ -506,7 +516,7 @@ class RedisBackend(Backend):
         with _store_errors():
             reply = await self._info_script(
                 keys=[keys["stream"], keys["meta"], keys["subs"], REPLICAS_KEY],
-                args=[*self._bounds, ALIVE_S],
+                args=[*self._bounds(channel), ALIVE_S],
             )
         return None if reply is None else _info(reply)
 

@@ -96,7 +96,7 @@ async def start_relay(redis_url_or_none: str | None) -> AsyncIterator[StartRelay
     async def start(**overrides: Any) -> RelayHarness:
         buffer = {
             key: overrides.pop(key)
-            for key in ("buffer_length", "buffer_bytes", "message_ttl")
+            for key in ("buffer_length", "buffer_bytes", "message_ttl", "last_value")
             if key in overrides
         }
         relay_settings = RelaySettings(

@@ -218,3 +218,24 @@ async def test_a_memory_relay_restarted_tells_resuming_subscribers_of_the_gap(
     else:
         assert json.loads(data) == "v14"
     await ws.close()
+
+
+async def test_a_last_value_channel_keeps_and_sends_only_its_newest(
+    start_relay: StartRelay,
+) -> None:
+    """Invariant 2: a channel named in `last_value` keeps its newest message only, so a new
+    subscriber starts from it (a lobby page is not sent every snapshot before the last); the
+    other channels keep their backlog."""
+    relay = await start_relay(buffer_length=10, last_value=frozenset({"lobby"}))
+    for n in range(5):
+        await relay.publish_ok("lobby", n)
+        await relay.publish_ok("game1", n)
+    assert (await relay.info("lobby"))["messages"] == 1
+    assert (await relay.info("game1"))["messages"] == 5
+    lobby, game = await relay.ws("/sub/lobby"), await relay.ws("/sub/game1")
+    assert [value for _, value in await _collect(game, 5)] == [0, 1, 2, 3, 4]
+    assert [value for _, value in await _collect(lobby, 1)] == [4]
+    await relay.publish_ok("lobby", "next")
+    assert [value for _, value in await _collect(lobby, 1)] == ["next"]
+    await lobby.close()
+    await game.close()

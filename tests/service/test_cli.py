@@ -10,6 +10,7 @@ from pathlib import Path
 from aiohttp.test_utils import TestClient
 
 from server.game import refereeing
+from server.protocol.ids import PRESENCE_TIMEOUT
 from tests.service.conftest import WAIT_S, StartServer, register, service_of, up_a_while
 
 BILLIARDS = [sys.executable, "-m", "server.cli"]
@@ -108,9 +109,10 @@ async def test_play_claims_the_win_from_an_opponent_gone_past_the_grace(
     server = await start_server(grace=0.0)
     url = str(server.make_url("")).rstrip("/")
     bob = await register(server, "Bob")
-    table = await bob.create("nineball")  # Bob breaks, and is gone before his first shot
-    up_a_while(server)
-    await service_of(server).storage.heartbeat(table["id"], 0, time.time() - 1000)
+    table = await bob.create("nineball")  # Bob breaks, and is gone before his first shot:
+    up_a_while(server)  # here when Ada joins, absent a second later
+    last = time.time() - PRESENCE_TIMEOUT + 1.0
+    await service_of(server).storage.heartbeat(table["id"], 0, last)
     ada = await run("play", url, "nineball", "--join", table["id"], "--name", "Ada")
     code, lines, err = await finish(ada)
     assert code == 0, err

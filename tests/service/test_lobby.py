@@ -114,6 +114,12 @@ async def test_the_lobby_batches_a_crowd_into_few_snapshots(server: TestClient) 
     last = snapshots[-1]
     assert last["kind"] == "lobby" and last["players_online"] == 30
     assert {t["id"] for t in last["tables"]} == {c["id"] for c in created}
+    # The channel keeps the newest snapshot alone: a lobby page opened now is sent that one.
+    assert len(snapshots) > 1, "(the crowd made one snapshot: nothing to keep or drop)"
+    kept = await service_of(server).publisher.relay.backend.info("public-lobby")
+    assert kept is not None and kept.messages == 1
+    latecomer = await watch(server, "public-lobby")
+    assert (await latecomer.next())["players_online"] == 30
     private = await hosts[0].create("nineball", private=True)
     listed = await (await server.get("/api/tables")).json()
     assert private["id"] not in {t["id"] for t in listed["tables"]}
