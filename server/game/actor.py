@@ -445,8 +445,8 @@ class TableActor:
         return [(o.input, o.state) for o in outcomes]
 
     async def _status_changed(self, before: TableRecord, after: TableRecord) -> None:
-        """Tell the lobby; rate a match that has just been decided (people and bots alike) and
-        record it in both players' histories."""
+        """Tell the lobby; rate a match that has just been decided (people and bots alike) once
+        both have played in it, and record it in both players' histories."""
         if after.listed != before.listed or after.status is not before.status:
             self._context.on_listing_change()
         decided = before.status is Status.PLAYING and after.status is Status.OVER
@@ -456,6 +456,8 @@ class TableActor:
         if first is None or second is None:
             return
         storage = self._context.storage
+        if not tables.played_by_both(await storage.inputs(after.id)):
+            return  # ended before both had played (resigned, left, claimed): it does not count
         rated = await rate(storage, after, (first, second))
         if rated is not None and after.ended is not None:
             result = MatchResult(

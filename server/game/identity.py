@@ -9,8 +9,9 @@ server user reads, server/storage/signing_key.py, or given to every replica in
 
 Names are unique among players *online*: a claim on the name's skeleton (`name_key`: case,
 look-alike characters and separators folded, so `AIice` and `Alice.` are `Alice`) lasts
-`ONLINE` seconds and each authenticated heartbeat renews it; once it lapses the name is free
-for someone else.
+`ONLINE` seconds and each sign of life renews it (a seated player's heartbeat, the lobby page's
+poll of its challenges, a waiting player's poll of its quick match); once it lapses the name is
+free for someone else.
 
 Every request of a player carries its token, so the last `KNOWN_TOKENS` tokens that checked out
 are remembered with their player and expiry: a player's next request costs a dictionary look-up

@@ -66,12 +66,15 @@ def replay_url(replay_id: str) -> str:
 
 def rack_replay(record: TableRecord, game_record: GameRecord, best: tuple[int, int]) -> ReplayView:
     """The replay of a rack, finished or not (`game_record`: its inputs as the rules record
-    them, from `refereeing.rack_archive`), with each seat's `best` break in it."""
+    them, from `refereeing.rack_archive`), with each seat's `best` break in it. A private
+    table's replay does not name it: its breaks reach the leaderboard and the players'
+    profiles, and before, anyone who followed one read the match being played and wrote to
+    its chat."""
     replay_id = new_replay_id()
     view = ReplayView(
         id=replay_id,
         url=replay_url(replay_id),
-        table=record.id,
+        table=None if record.options.private else record.id,
         rack=record.rack,
         game=record.game,
         players=list(record.seats),

@@ -18,6 +18,7 @@ from server.protocol.encoding import with_encoded
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import (
     BOT_LEVELS,
+    CLOCK_PREFIX,
     PRESENCE_TIMEOUT,
     REMATCH_LAPSE,
     TURN_LIMIT,
@@ -206,6 +207,15 @@ def seat_of(record: TableRecord, player_id: str) -> int | None:
         if occupant is not None and occupant.id == player_id:
             return seat
     return None
+
+
+def played_by_both(inputs: list[InputEntry]) -> bool:
+    """Whether each seat has played an input of its own in a match (`inputs`, its log): the
+    clock's for a seat does not count. A match ended before that (a resignation, a claim) is
+    neither rated nor recorded: before, two accounts farmed a rating by creating, joining and
+    resigning (300 points in six loops), and guests pushed a bot's up by resigning
+    to it before its first shot."""
+    return {e.seat for e in inputs if not e.shot_id.startswith(CLOCK_PREFIX)} == {0, 1}
 
 
 def join_waiting(record: TableRecord, player: PlayerInfo, seen: Seen, now: float) -> TableRecord:

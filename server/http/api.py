@@ -452,8 +452,11 @@ async def quick(request: web.Request) -> web.Response:
 
 
 async def quick_status(request: web.Request) -> web.Response:
+    """A waiting page's poll: its player is online (`Identity.seen`), as at a table."""
     player = await player_of(request)
-    return answer(await service_of(request).lobby.quick_status(player))
+    service = service_of(request)
+    await service.identity.seen(player)
+    return answer(await service.lobby.quick_status(player))
 
 
 async def quick_cancel(request: web.Request) -> web.Response:
@@ -472,8 +475,12 @@ async def challenge(request: web.Request) -> web.Response:
 
 
 async def challenges(request: web.Request) -> web.Response:
+    """The lobby page's poll: its player is online (`Identity.seen`), as at a table; before,
+    a player on the lobby page lost their name after `ONLINE` (5 minutes) to whoever took it."""
     player = await player_of(request)
-    return answer(await service_of(request).challenges.pending(player))
+    service = service_of(request)
+    await service.identity.seen(player)
+    return answer(await service.challenges.pending(player))
 
 
 def _answer_challenge(to: ChallengeStatus) -> Handler:

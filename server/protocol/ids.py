@@ -69,13 +69,16 @@ def _whole(core: str) -> str:
 
 
 #: A display name: letters, digits, `_`, `-`, `.` and inner spaces (nothing a page could take
-#: for markup), at most `NAME_MAX` characters.
-NAME_CORE = r"[A-Za-z0-9_.\-](?:[A-Za-z0-9_. \-]*[A-Za-z0-9_.\-])?"
+#: for markup), at least one letter or digit, at most `NAME_MAX` characters. (Before, `..` was
+#: a name: its profile link `/player/..` opened the home page, and as every name of separators
+#: alone reads as the same empty skeleton, it took all of them.)
+NAME_CORE = r"[_.\-]*[A-Za-z0-9](?:[A-Za-z0-9_. \-]*[A-Za-z0-9_.\-])?"
 NAME_PATTERN = _whole(NAME_CORE)
 NAME_MAX = 24
 #: The same in words, for the people whose name is refused.
 NAME_RULE = (
-    f"1 to {NAME_MAX} letters, digits, spaces, '_', '-' or '.', not starting or ending with a space"
+    f"1 to {NAME_MAX} letters, digits, spaces, '_', '-' or '.', with a letter or digit, not"
+    " starting or ending with a space"
 )
 
 TABLE_ID_CORE = r"[0-9a-f]{20}"

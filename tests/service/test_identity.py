@@ -7,11 +7,12 @@ import time
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server.game.identity import GUEST_KEPT, RECHECK, TOKEN_TTL, Identity, name_key
+from server.game.identity import GUEST_KEPT, ONLINE, RECHECK, TOKEN_TTL, Identity, name_key
 from server.game.service import NAMES_PER_ADDRESS
 from server.protocol.errors import ErrorCode, ServiceError
 from server.relay.auth import TokenAuthority
 from server.storage import Storage
+from tests.service.conftest import register, service_of
 
 
 class Clock:
@@ -89,3 +90,26 @@ async def test_a_remembered_token_of_an_expired_guest_stops_working(storage: Sto
     with pytest.raises(ServiceError) as refused:
         await identity.authenticate(issued.token)
     assert refused.value.code is ErrorCode.UNAUTHORIZED
+
+
+@pytest.mark.parametrize("poll", ["/api/challenges", "/api/quick"])
+async def test_a_player_on_the_lobby_page_keeps_their_name(server: TestClient, poll: str) -> None:
+    """The lobby page polls its challenges (and a waiting one its quick match), and that keeps
+    its player's name: before, only a seated player's heartbeat did, so a player who stayed on
+    the lobby page lost the name after 5 minutes to whoever registered it then."""
+    ada = await register(server, "Ada")
+    storage = service_of(server).storage
+    now = time.time()
+    await storage.claim_name(name_key("Ada"), ada.info["id"], now + 1.0, now)  # about to lapse
+    await ada.call("GET", poll, expect=200)
+    holder = await storage.name_holder(name_key("Ada"))
+    assert holder is not None and holder[0] == ada.info["id"] and holder[1] > now + ONLINE - 60
+
+
+@pytest.mark.parametrize("name", ["..", ".", "_-_", "- -"])
+async def test_a_name_of_separators_alone_is_refused(server: TestClient, name: str) -> None:
+    """Before, `..` was a name: its profile link opened the home page, and since every name of
+    separators alone folds to the same empty skeleton, the first one took all the others."""
+    response = await server.post("/api/players", json={"name": name})
+    assert response.status == 400 and (await response.json())["code"] == "bad_request"
+    await register(server, "._Ada")  # separators beside a letter are a name

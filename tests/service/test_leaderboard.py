@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import json
 
+import pytest
 from aiohttp.test_utils import TestClient
 
 from rules.game import Setup
@@ -279,3 +280,18 @@ async def test_claims_from_everyone_share_a_bounded_part_of_the_event_loop(
     assert (status, code) == (429, "rate_limited"), body
     assert "everyone" in body["reason"]
     assert breaks.replayed == replayed
+
+
+@pytest.mark.parametrize("private", [True, False])
+async def test_a_private_tables_replays_do_not_name_it(server: TestClient, private: bool) -> None:
+    """A rack's replay reaches the leaderboard and profiles with its breaks; a private table's
+    must not lead there (before, a stranger read the private match and wrote to its chat)."""
+    ada, bob = await register(server, "Ada"), await register(server, "Bob")
+    table = await ada.create("nineball", private=private)
+    _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+    assert (await ada.shoot(view["id"], view["version"], picked(view)))[0] == 202
+    await service_of(server).matches.idle()
+    await bob.call("POST", f"/api/tables/{table['id']}/resign", expect=200)  # archives the rack
+    over = await (await server.get(f"/api/tables/{table['id']}")).json()
+    replay = await (await server.get(f"/api/replays/{over['replays'][0]}")).json()
+    assert replay["table"] == (None if private else table["id"])

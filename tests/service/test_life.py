@@ -11,7 +11,7 @@ from aiohttp.test_utils import TestClient
 from server.game import tables
 from server.protocol.ids import PRESENCE_TIMEOUT
 from tests.service.conftest import StartServer, register, service_of, up_a_while, watch
-from tests.service.test_match import abandon_input, picked, seated_match
+from tests.service.test_match import abandon_input, both_played, picked, seated_match
 
 
 async def test_a_restarted_server_resumes_the_match_and_honours_old_tokens(
@@ -170,9 +170,22 @@ async def test_names_are_unique_among_players_online(server: TestClient) -> None
 
 
 async def test_a_decided_match_between_two_people_is_rated_once(server: TestClient) -> None:
+    """Once both have played: before, two accounts farmed a rating by creating, joining and
+    resigning (300 points in six loops)."""
     ada, bob, view = await seated_match(server)
     path = f"/api/players/{ada.info['id']}/ratings"
+    await bob.call("POST", f"/api/tables/{view['id']}/resign", expect=200)  # before a shot
+    _, _, view = await seated_match(server, (ada, bob))
+    status, _ = await ada.shoot(view["id"], view["version"], picked(view))  # Ada breaks
+    assert status == 202
+    await service_of(server).matches.idle()
+    await ada.call("POST", f"/api/tables/{view['id']}/resign", expect=200)  # Bob never shot
+    await service_of(server).matches.idle()
     assert (await (await server.get(path)).json())["ratings"] == {}
+    profile = await (await server.get(f"/api/players/{ada.info['id']}/profile")).json()
+    assert profile["matches"] == []
+    _, _, view = await seated_match(server, (ada, bob))
+    view = await both_played(server, ada, bob, view)
     await bob.call("POST", f"/api/tables/{view['id']}/resign", expect=200)
     await service_of(server).matches.idle()
     won = (await (await server.get(path)).json())["ratings"]["nineball"]

@@ -16,7 +16,7 @@ from server.game.commands import Play
 from server.game.tables import InputEntry
 from server.protocol.models import Intent, PlayerInfo
 from server.storage import Storage
-from tests.service.conftest import Player, register, service_of, watch
+from tests.service.conftest import WAIT_S, Player, register, service_of, watch
 
 
 def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
@@ -49,6 +49,24 @@ async def seated_match(
     table = await ada.create("nineball")
     _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
     return ada, bob, view
+
+
+async def both_played(server: TestClient, ada: Player, bob: Player, view: dict[str, Any]) -> dict:
+    """Ada's and Bob's first shots of a match seated by `seated_match` (each the clock's
+    dead-slow foul, which hands the table over), so that its result counts; the view after."""
+    for player in (ada, bob):
+        state = from_json(refereeing.State, view["state"])
+        foul = refereeing.timeout_input(state).model_dump(mode="json")
+        status, body = await player.shoot(view["id"], view["version"], foul)
+        assert status == 202, body
+        played = body["version"]
+        for _ in range(int(WAIT_S / 0.05)):  # played by whichever replica took it
+            view = await (await server.get(f"/api/tables/{view['id']}")).json()
+            if view["version"] >= played:
+                break
+            await asyncio.sleep(0.05)
+        assert view["version"] >= played
+    return view
 
 
 async def test_a_shot_is_acknowledged_then_published_once_with_its_trajectory(

@@ -18,6 +18,7 @@ from server.protocol.ids import PROFILE_HISTORY
 from server.protocol.models import Ending
 from server.storage import Storage
 from tests.service.conftest import ADA, BOB, Deploy, on, register, service_of
+from tests.service.test_match import both_played
 
 
 async def named(http, name: str) -> tuple[int, dict]:
@@ -61,7 +62,8 @@ async def test_a_profile_has_its_rating_history_and_when_last_seen(deploy: Deplo
     before = time.time()
     for game, loser in (("nineball", ada), ("snooker", bob), ("nineball", ada)):
         table = await ada.create(game)
-        await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+        _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+        await both_played(replicas[0], ada, bob, view)
         await loser.call("POST", f"/api/tables/{table['id']}/resign", expect=200)
     response = await replicas[-1].get(f"/api/players/{bob.info['id']}/profile")
     profile = await response.json()

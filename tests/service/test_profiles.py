@@ -3,14 +3,19 @@ ended and its replays; bots are rated like anyone and listed with their levels."
 
 from __future__ import annotations
 
+import asyncio
+
 from aiohttp.test_utils import TestClient
 
-from tests.service.conftest import register
-from tests.service.test_match import seated_match
+from server.client.api_client import from_json
+from server.game import refereeing
+from tests.service.conftest import WAIT_S, register
+from tests.service.test_match import both_played, seated_match
 
 
 async def test_a_resigned_match_is_in_both_profiles(server: TestClient) -> None:
     ada, bob, view = await seated_match(server)
+    await both_played(server, ada, bob, view)
     _, over = await ada.call("POST", f"/api/tables/{view['id']}/resign", expect=200)
     assert over["ended"] == "resigned" and over["winner"] == 1
     profiles = {}
@@ -33,6 +38,18 @@ async def test_a_resigned_match_is_in_both_profiles(server: TestClient) -> None:
 async def test_bots_are_rated_and_listed_by_level(server: TestClient) -> None:
     ada = await register(server, "Ada")
     table = await ada.create("eightball", mode="bot", bot="bot:2")
+    await ada.call("POST", f"/api/tables/{table['id']}/resign", expect=200)  # before a shot
+    before = {bot["id"]: bot for bot in (await (await server.get("/api/bots")).json())["bots"]}
+    assert before["bot:2"]["ratings"] == {}
+    table = await ada.create("eightball", mode="bot", bot="bot:2")
+    foul = refereeing.timeout_input(from_json(refereeing.State, table["state"]))
+    status, body = await ada.shoot(table["id"], table["version"], foul.model_dump(mode="json"))
+    assert status == 202, body
+    for _ in range(int(WAIT_S / 0.05)):  # the bot plays after Ada's foul
+        view = await (await server.get(f"/api/tables/{table['id']}")).json()
+        if view["version"] > body["version"]:
+            break
+        await asyncio.sleep(0.05)
     await ada.call("POST", f"/api/tables/{table['id']}/resign", expect=200)
     bots = await (await server.get("/api/bots")).json()
     levels = {bot["id"]: bot for bot in bots["bots"]}
