@@ -1,11 +1,14 @@
-"""The table actor: every command on a table, taken strictly one at a time, in one place.
+"""The table actor: every command on a table, in one place, those that change it strictly one at
+a time.
 
 In each server process a table has at most one `TableActor`: a queue of jobs and one task that
 runs them in order (the task ends when the queue is empty, so idle tables cost nothing). Every
 command is a typed value (server/game/commands.py): the players' `Play`, `Join`, `Leave`, `Resign`,
 `Claim`, `Rematch`, `Heartbeat`, `QuickMessage` and `Aim`, handed over by the HTTP handlers with
 `ask`, and the server's own `ClockExpiry` (server/game/clock.py) and `BotMove`, queued with `tell`.
-Every job starts from a fresh read of the stored table, so replicas sharing a Redis see each
+The three that change nothing of the versioned table (`commands.Beside`: a heartbeat, a quick
+message, an aim) are answered at once, not behind a job that may wait out a dead replica's
+lease. Every job starts from a fresh read of the stored table, so replicas sharing a Redis see each
 other's moves, and every change is stored with a compare-and-set on the table's version.
 
 The life of an input (docs/protocol.md, Playing: intents):
@@ -38,7 +41,9 @@ these on both storage backends; tests/service/test_stalls.py holds each over rea
 2. **Absence can be claimed.** A seat that left, or never sent a heartbeat at all, is absent
    `PRESENCE_TIMEOUT` after it was last seen (or after the match started) and claimable by
    its opponent `grace` seconds later (server/game/tables.py, `last_seen`). A heartbeat
-   counts as no older than this process (`MatchContext.seen`): an outage is nobody's absence.
+   counts as no older than the service's present run (`MatchContext.seen`, storage
+   invariant 16): an outage of the whole service is nobody's absence, one replica's restart
+   changes nothing.
 3. **Quick requests lapse.** A quick-match request lapses when its client stops asking or
    polling (server/game/lobby.py, storage invariant 11), and a quick match has a shot clock.
 4. **One rematch.** A finished match has at most one rematch table, however many offers and
@@ -113,6 +118,9 @@ LEASE = 15.0
 PENDING_POLL = 0.02
 #: Compare-and-set attempts before a busy table answers `unavailable`.
 CAS_TRIES = 5
+#: Seconds between a process's words to the storage that it is up (`MatchContext.keep_run`),
+#: and the silence from every process after which the service counts as having been down.
+SAY_UP, OUTAGE = 2.0, 10.0
 #: Rating attempts of one match while other matches of its players keep being rated first
 #: (each conflict means another rating landed, so this is only reached under a storm).
 RATE_TRIES = 20
@@ -172,18 +180,35 @@ class MatchContext:
     searched: OrderedDict[str, int] = field(default_factory=OrderedDict)
     #: One search at a time for the bot tables of one player (invariant 6).
     bot_turns: Turns = field(default_factory=lambda: Turns())
-    #: When this process started: nobody's absence is counted from before it (invariant 2).
+    #: When the service's present run began (`keep_run`): nobody's absence is counted from
+    #: before it (invariant 2). Until the storage has said, this process's start.
     up_since: float = field(default_factory=time.time)
 
     async def seen(self, table_id: str) -> tables.Seen:
         """Each seat's last heartbeat, as presence and claims count it: none earlier than
-        `up_since`, so that the time the server was down is nobody's absence (before, the
+        `up_since`, so that the time the service was down is nobody's absence (before, the
         first player back after an outage longer than the grace claimed a rated win)."""
         last = await self.storage.heartbeats(table_id)
         return (
             None if last[0] is None else max(last[0], self.up_since),
             None if last[1] is None else max(last[1], self.up_since),
         )
+
+    async def keep_run(self) -> None:
+        """Tell the storage every `SAY_UP` seconds that this process is up, and take the
+        service's run from it (storage invariant 16): a replica started while others run
+        counts absences as they do (before, one restarted replica showed every player who
+        had left as present, played the clock at tables they had left and refused the
+        claims the others granted), and a run that began anew moves `up_since` to its start."""
+        known = self.up_since
+        while True:
+            try:
+                since = await self.storage.service_since(time.time(), OUTAGE)
+                if since != known:
+                    known = self.up_since = since
+            except Exception:  # storage trouble: the next word tries again
+                log.exception("telling the storage the service is up failed")
+            await asyncio.sleep(SAY_UP)
 
 
 def _answer(request: asyncio.Future, result: object) -> None:
@@ -228,6 +253,7 @@ class TableActor:
         self._context = context
         self._jobs: deque[Callable[[], Awaitable[None]]] = deque()
         self._task: asyncio.Task[None] | None = None
+        self._beside = 0  # `commands.Beside` being answered outside the queue
         self._forget = forget
 
     # ----- the actor ----------------------------------------------------------------------
@@ -244,7 +270,12 @@ class TableActor:
             except Exception:  # a job reports to its caller; a bug must not stop the table
                 log.exception("table %s: job failed", self.table_id)
         self._task = None
-        self._forget()
+        self._forget_if_idle()
+
+    def _forget_if_idle(self) -> None:
+        """Let this process forget the actor once nothing runs on it."""
+        if self._task is None and not self._jobs and not self._beside:
+            self._forget()
 
     async def idle(self) -> None:
         """Wait until every job queued so far has run (tests, shutdown)."""
@@ -253,12 +284,20 @@ class TableActor:
 
     # ----- commands -------------------------------------------------------------------------
     async def ask(self, command: ClientCommand) -> object:
-        """Run a client's command in turn and return the actor's answer: an `IntentAccepted`
-        or `IntentDuplicate` (`Play`, answered once accepted; it is played afterwards), the
+        """Run a client's command in turn (one of `commands.Beside` at once) and return the
+        actor's answer: an `IntentAccepted` or `IntentDuplicate` (`Play`, answered once
+        accepted; it is played afterwards), the
         stored `TableRecord` (seat and match commands), a `PresenceMessage` (`Heartbeat`) or
         the `ChatMessage` sent (`QuickMessage`). ServiceError refuses it, changing nothing;
         any other error the command met (the storage unreachable, a bug) is raised here as
         well as logged, so that no request waits for an answer that will never come."""
+        if isinstance(command, commands.Beside):  # changes nothing of the table: no queue
+            self._beside += 1
+            try:
+                return await self._run(command, None)
+            finally:
+                self._beside -= 1
+                self._forget_if_idle()
         done: asyncio.Future[object] = asyncio.get_running_loop().create_future()
 
         async def job() -> None:

@@ -125,6 +125,11 @@ ClientCommand = (
     | QuickMessage
     | Aim
 )
+#: The client commands that change nothing of the versioned table (a heartbeat is kept beside
+#: it, a quick message and an aim are only published): the actor answers them at once rather
+#: than behind the queue, where a job may wait out a dead replica's lease (15 s), so that a
+#: player's heartbeats are kept and nobody looks gone meanwhile.
+Beside = Heartbeat | QuickMessage | Aim
 #: What the server makes itself.
 ServerCommand = ClockExpiry | BotMove
 Command = ClientCommand | ServerCommand

@@ -105,7 +105,14 @@ async def profile(storage: Storage, player_id: str) -> PlayerProfile:
         player=player,
         ratings=ratings,
         matches=[seen_from(result, player.id) for result in results[:RECENT]],
-        best_breaks={game: entry for game, entry in breaks.items() if entry is not None},
+        # The boards rank names; a name passes to whoever registers it once it lapses, so
+        # only a break the player made is theirs (before, a name's next holder showed the
+        # breaks of the one before).
+        best_breaks={
+            game: entry
+            for game, entry in breaks.items()
+            if entry is not None and entry.player == player.id
+        },
         history=rating_history(results, player.id),
         online=await _online(storage, player),
         last_seen=await storage.last_seen(player.id),

@@ -6,13 +6,15 @@ Redis when the app runs with a Redis URL (then replicas share it, and the relay'
 
 from __future__ import annotations
 
+import time
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from dataclasses import dataclass, field
 
 from aiohttp import web
 
-from server.game.actor import MatchContext, Matches, new_replica_id, take
+from server.game.actor import OUTAGE, MatchContext, Matches, new_replica_id, take
+from server.game.background import running
 from server.game.challenges import Challenges
 from server.game.clock import running_clock
 from server.game.diagrams import DiagramWork
@@ -142,9 +144,11 @@ async def running_service(
         limits=limits,
     )
     service.limits["register"] = RateLimiter(names_per_address / ONLINE, names_per_address)
+    context.up_since = await storage.service_since(time.time(), OUTAGE)  # before any request
     try:
         async with (
             lobby.running(),
+            running(context.keep_run),
             running_clock(storage, service.matches),
             running_expiry(storage, publisher, lambda table: context.presence.pop(table, None)),
         ):

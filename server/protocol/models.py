@@ -171,7 +171,9 @@ class PlayerProfile(BaseModel):
     player: PlayerInfo
     ratings: dict[str, RatingView] = Field(description="by game; a game never played is absent")
     matches: list[ProfileMatch] = Field(description="the most recent first")
-    best_breaks: dict[str, BreakEntry] = Field(description="by game, under the player's name")
+    best_breaks: dict[str, BreakEntry] = Field(
+        description="by game, the best break under the player's name if the player made it"
+    )
     history: list[RatingPoint] = Field(
         default=[],
         description=f"the rating after each of the player's last {ids.PROFILE_HISTORY} rated"

@@ -80,6 +80,12 @@ What a backend must guarantee
    with a rating is never deleted. So players are not kept for ever: a guest who never played
    a rated match is gone some time after it was last seen (server/game/expiry.py).
    `last_seen` gives a player's last sign of life (None: no such player).
+16. **The service's run.** `service_since(now, outage)` records atomically that a process of
+   the service is up at `now` and returns when the service's present run began: `now` if no
+   process had said so within `outage` seconds (or ever), else the run's stored start. One
+   replica's restart, while others run, is no new run; the whole service down longer than
+   `outage` is (server/game/actor.py, invariant 2: nobody's absence is counted from before
+   the run).
 """
 
 from __future__ import annotations
@@ -208,6 +214,10 @@ class Storage(ABC):
     @abstractmethod
     async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
         """The last heartbeat of each seat (None: never)."""
+
+    @abstractmethod
+    async def service_since(self, now: float, outage: float) -> float:
+        """That a process is up at `now`; when the service's run began (invariant 16)."""
 
     @abstractmethod
     async def due_tables(self, now: float, limit: int) -> list[str]:

@@ -167,6 +167,17 @@ return 1
 
 # KEYS: the challenge's hash, each player's pending set. ARGV: the settled document, status,
 # challenge id.
+#: Invariant 16: KEYS[1] the service's hash {since, alive}; ARGV now, outage (as text: a
+#: float goes through Lua's number, but is stored and answered as the text it came as).
+_SERVICE_SINCE = """
+local alive = tonumber(redis.call('HGET', KEYS[1], 'alive'))
+local since = redis.call('HGET', KEYS[1], 'since')
+local now = tonumber(ARGV[1])
+if not alive or not since or now - alive > tonumber(ARGV[2]) then since = ARGV[1] end
+if not alive or now > alive then redis.call('HSET', KEYS[1], 'alive', ARGV[1]) end
+redis.call('HSET', KEYS[1], 'since', since)
+return since
+"""
 _SETTLE_CHALLENGE = """
 if redis.call('HGET', KEYS[1], 'status') ~= 'pending' then return 0 end
 redis.call('HSET', KEYS[1], 'status', ARGV[2], 'doc', ARGV[1])
@@ -246,6 +257,7 @@ class RedisStorage(Storage):
         self._touch_quick = self._redis.register_script(_TOUCH_QUICK)
         self._add_result = self._redis.register_script(_ADD_RESULT)
         self._settle_challenge = self._redis.register_script(_SETTLE_CHALLENGE)
+        self._service_since = self._redis.register_script(_SERVICE_SINCE)
         self._rate = self._redis.register_script(_RATE)
         self._expire = self._redis.register_script(_EXPIRE)
         self._add_break = self._redis.register_script(_ADD_BREAK)
@@ -406,6 +418,10 @@ class RedisStorage(Storage):
     async def heartbeats(self, table_id: str) -> tuple[float | None, float | None]:
         seen = await self._redis.hmget(f"{P}h:{table_id}", ["0", "1"])
         return tuple(None if s is None else float(s) for s in seen)  # type: ignore[return-value]
+
+    async def service_since(self, now: float, outage: float) -> float:
+        since = await self._service_since(keys=[f"{P}service"], args=[repr(now), repr(outage)])
+        return float(since)
 
     async def due_tables(self, now: float, limit: int) -> list[str]:
         return await self._redis.zrangebyscore(f"{P}deadlines", "-inf", now, start=0, num=limit)

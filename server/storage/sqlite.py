@@ -126,6 +126,8 @@ CREATE TABLE IF NOT EXISTS challenges (
 CREATE INDEX IF NOT EXISTS challenges_made ON challenges (challenger, status);
 CREATE INDEX IF NOT EXISTS challenges_received ON challenges (challenged, status);
 CREATE TABLE IF NOT EXISTS lobby (player TEXT PRIMARY KEY, until REAL NOT NULL);
+CREATE TABLE IF NOT EXISTS service (
+    id INTEGER PRIMARY KEY CHECK (id = 0), since REAL NOT NULL, alive REAL NOT NULL);
 CREATE TABLE IF NOT EXISTS quick (
     player TEXT PRIMARY KEY, status TEXT NOT NULL, queued INTEGER NOT NULL,
     alive REAL NOT NULL DEFAULT 0);
@@ -616,6 +618,14 @@ class SqliteStorage(Storage):
         )
         seen = dict(rows)
         return seen.get(0), seen.get(1)
+
+    async def service_since(self, now: float, outage: float) -> float:
+        async with self._transaction_here() as db:
+            row = db.execute("SELECT since, alive FROM service WHERE id = 0").fetchone()
+            since = now if row is None or now - row[1] > outage else row[0]
+            alive = now if row is None else max(now, row[1])
+            db.execute("INSERT OR REPLACE INTO service VALUES (0, ?, ?)", (since, alive))
+        return since
 
     async def due_tables(self, now: float, limit: int) -> list[str]:
         rows = await self._keyed_rows(  # (an index's first `limit`)

@@ -190,9 +190,9 @@ def service_of(http: TestClient) -> Service:
 
 
 def up_a_while(http: TestClient) -> None:
-    """Let the server count heartbeats as one that has run a while does: a test that stores an
-    old heartbeat means a player gone that long, which a server just started would count
-    from its start (`MatchContext.up_since`)."""
+    """Let the server count heartbeats as a service that has run a while does: a test that
+    stores an old heartbeat means a player gone that long, which a service whose run has just
+    begun would count from its start (`MatchContext.up_since`, storage invariant 16)."""
     service_of(http).matches.context.up_since = 0.0
 
 

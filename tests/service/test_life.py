@@ -201,3 +201,22 @@ async def test_what_a_client_makes_the_server_store_is_rate_limited(server: Test
     practice = {"game": "nineball", "mode": "practice", "private": True}
     answers = [(await ada.call("POST", "/api/tables", practice))[0] for _ in range(25)]
     assert 20 <= answers.count(201) <= 21 and answers[-1] == 429  # a burst of 20, then 1/s
+
+
+async def test_heartbeats_are_kept_while_a_dead_replicas_input_waits_out_its_lease(
+    server: TestClient,
+) -> None:
+    """A heartbeat changes nothing of the table, so it is not queued behind the job that waits
+    for a dead replica's input: before, every heartbeat waited up to the lease (15 s) unkept,
+    and then the player was announced gone."""
+    ada, _, view = await seated_match(server)
+    storage = service_of(server).storage
+    await abandon_input(storage, view, "orphan-0002", lease_left=3.0)
+    watcher = await watch(server, view["channel"])
+    path = f"/api/tables/{view['id']}/heartbeat"
+    await ada.call("POST", path, expect=200)  # lets the table wait for the input (a job)
+    _, beat = await ada.call("POST", path, expect=200)
+    assert beat["version"] == view["version"]  # answered while the input still waits
+    assert (await storage.heartbeats(view["id"]))[0] > time.time() - PRESENCE_TIMEOUT
+    outcome = await watcher.next_kind("outcome")  # then played, once the lease is out
+    assert (outcome["shot_id"], outcome["version"]) == ("orphan-0002", view["version"] + 1)

@@ -26,16 +26,17 @@ def picked(view_or_outcome: dict[str, Any]) -> dict[str, Any]:
 
 
 async def abandon_input(
-    storage: Storage, view: dict[str, Any], shot_id: str, seat: int = 0
+    storage: Storage, view: dict[str, Any], shot_id: str, seat: int = 0, lease_left: float = -1.0
 ) -> None:
-    """Store an accepted, unplayed input of `seat` as a replica that died a lease ago left it."""
+    """Store an accepted, unplayed input of `seat` as a replica that died left it, its lease
+    out in `lease_left` seconds (by default, out a second ago)."""
     record = await storage.get_table(view["id"])
     entry = InputEntry(
         shot_id=shot_id,
         seat=seat,
         input=from_json(refereeing.Shot, picked(view)),
         version=record.version,
-        accepted_at=time.time() - LEASE - 1,
+        accepted_at=time.time() - LEASE + lease_left,
         replica="a-replica-that-died",
     )
     await storage.accept(record.model_copy(update={"pending": entry}))

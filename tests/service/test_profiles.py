@@ -9,7 +9,8 @@ from aiohttp.test_utils import TestClient
 
 from server.client.api_client import from_json
 from server.game import refereeing
-from tests.service.conftest import WAIT_S, register
+from server.protocol.models import BreakEntry, Source
+from tests.service.conftest import WAIT_S, register, service_of
 from tests.service.test_match import both_played, seated_match
 
 
@@ -58,3 +59,18 @@ async def test_bots_are_rated_and_listed_by_level(server: TestClient) -> None:
     assert levels["bot:5"]["ratings"] == {}
     assert [bot["level"] for bot in bots["bots"]] == sorted(bot["level"] for bot in bots["bots"])
     assert all(bot["name"] and ":" not in bot["name"] for bot in bots["bots"])
+
+
+async def test_a_profile_shows_only_the_breaks_its_player_made(server: TestClient) -> None:
+    """The boards rank names, and a name passes to whoever registers it once it lapses:
+    before, the name's next holder showed the breaks of the one before."""
+    ada = await register(server, "Ada")
+    storage = service_of(server).storage
+    for who, score in (("p_" + "e" * 16, 7), (ada.info["id"], 3)):  # an earlier Ada's, hers
+        entry = BreakEntry(
+            game="nineball", score=score, name="Ada", player=who, source=Source.CLAIM, at=1.0
+        )
+        assert await storage.add_break(entry, f"{who}-{score}")
+    path = f"/api/players/{ada.info['id']}/profile"
+    # The 7 is not hers. (Nor is her 3 shown: the board's best under the name is the 7.)
+    assert (await (await server.get(path)).json())["best_breaks"] == {}

@@ -10,6 +10,7 @@ the players' requests going to both replicas in turn.
 from __future__ import annotations
 
 import asyncio
+import sqlite3
 import time
 from pathlib import Path
 from typing import Any
@@ -23,7 +24,16 @@ from server.protocol.ids import QUICK_SHOT_CLOCK, BotName
 from server.protocol.models import Mode, PlayerInfo, TableCreate
 from server.storage import Storage, StorageError
 from server.storage.sqlite import SqliteStorage
-from tests.service.conftest import Deploy, Player, StartServer, on, register, service_of, watch
+from tests.service.conftest import (
+    Deploy,
+    Player,
+    StartServer,
+    on,
+    register,
+    service_of,
+    up_a_while,
+    watch,
+)
 from tests.service.test_match import picked
 
 #: How long a request may take to be answered here before the test calls it a stall.
@@ -153,6 +163,7 @@ async def test_an_outage_is_nobodys_absence(
     for seat in (0, 1):
         await storage.heartbeat(view["id"], seat, time.time() - 1000)
     await storage.close()
+    _shift_service_run(tmp_path, -1000.0, -1000.0)
     second = await start_server(grace=0.3)
     ada = Player(http=second, info=ada.info, token=ada.token)
     status, early = await ada.call("POST", f"/api/tables/{view['id']}/claim")
@@ -161,6 +172,33 @@ async def test_an_outage_is_nobodys_absence(
     assert shown["presence"] == [True, True]
     await asyncio.sleep(0.8)  # Bob does not come back
     await ada.call("POST", f"/api/tables/{view['id']}/heartbeat", expect=200)
+    _, won = await ada.call("POST", f"/api/tables/{view['id']}/claim", expect=200)
+    assert won["status"] == "over" and won["winner"] == 0
+
+
+def _shift_service_run(tmp_path: Path, since: float, alive: float) -> None:
+    """Move the stored run's start and its last word (storage invariant 16) by these seconds."""
+    with sqlite3.connect(tmp_path / "game.sqlite") as db:
+        db.execute("UPDATE service SET since = since + ?, alive = alive + ?", (since, alive))
+
+
+async def test_a_replica_started_while_others_run_counts_absences_as_they_do(
+    start_server: StartServer, tmp_path: Path
+) -> None:
+    """Bob left long ago; a replica started since (others running all along) lets Ada claim,
+    as the others do: before, it counted nobody as gone from before its own start, showed Bob
+    present and refused the claim for the grace and more."""
+    first = await start_server()
+    ada, bob = await register(first, "Ada"), await register(first, "Bob")
+    table = await ada.create("nineball")
+    _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+    up_a_while(first)
+    await service_of(first).storage.heartbeat(view["id"], 1, time.time() - 1000)
+    _shift_service_run(tmp_path, -2000.0, 0.0)  # the service has run for a while
+    second = await start_server()
+    ada = Player(http=second, info=ada.info, token=ada.token)
+    _, presence = await ada.call("POST", f"/api/tables/{view['id']}/heartbeat", expect=200)
+    assert presence["presence"] == [True, False]
     _, won = await ada.call("POST", f"/api/tables/{view['id']}/claim", expect=200)
     assert won["status"] == "over" and won["winner"] == 0
 

@@ -217,6 +217,20 @@ async def test_heartbeats_are_kept_per_seat_beside_the_record(storage: Storage) 
     assert await storage.update(join(record, BOB))  # the version did not move
 
 
+async def test_the_services_run_outlasts_a_replica_not_an_outage(
+    open_storage: OpenStorage,
+) -> None:
+    """Invariant 16: a replica that starts while another runs joins the run; once no process
+    has said it was up for longer than the outage, the next one starts a new run."""
+    one, other = await open_storage(), await open_storage()
+    assert await one.service_since(1000.25, 10.0) == 1000.25
+    assert await other.service_since(1004.5, 10.0) == 1000.25  # a replica starting meanwhile
+    assert await one.service_since(1013.0, 10.0) == 1000.25  # 8.5 s after the last word
+    assert await other.service_since(1008.0, 10.0) == 1000.25  # a late word moves nothing back
+    assert await other.service_since(1023.5, 10.0) == 1023.5  # 10.5 s of silence: a new run
+    assert await one.service_since(1024.0, 10.0) == 1023.5
+
+
 async def test_a_match_is_rated_once(open_storage: OpenStorage) -> None:
     stores = [await open_storage() for _ in range(3)]
     new = {"p_ada": Rating(rating=1600, games=1), "p_bob": Rating(rating=1400, games=1)}
