@@ -1,6 +1,7 @@
-"""Direct challenges: one player asks another to a game with chosen options; the other
-accepts (a table is made for both, through the ordinary table path) or declines; the
-challenger may cancel; a challenge lapses when either player leaves.
+"""Direct challenges: one player asks another, present in the lobby, to a game with chosen
+options; the other accepts (a table is made for both, through the ordinary table path) or
+declines; the challenger may cancel; a challenge lapses when either player leaves. A player
+may challenge another a few times, then once a minute (`PAIR_LIMIT`).
 
 "Leaving" is seen the way quick match sees it: a page that shows challenges polls
 `GET /api/challenges` every `QUICK_POLL` seconds, which keeps its player present in the lobby
@@ -15,6 +16,7 @@ from __future__ import annotations
 import time
 
 from server.game import tables
+from server.game.actor import take
 from server.game.challenge_record import ChallengeRecord
 from server.game.lobby import Lobby, new_seed
 from server.game.publisher import Publisher
@@ -37,7 +39,13 @@ from server.protocol.models import (
     PlayerInfo,
     TableCreate,
 )
+from server.relay import RateLimiter
 from server.storage import Storage
+
+#: Challenges one player may send another: `PAIR_LIMIT[1]` at once, then one every
+#: 1 / `PAIR_LIMIT[0]` seconds, whatever became of them. Each is an alert on the other's page;
+#: before, creating and cancelling in a loop sent one player 29 alerts in 40 s.
+PAIR_LIMIT = (1 / 60.0, 3)
 
 
 def challenge_table_id(challenge_id: str) -> str:
@@ -50,6 +58,8 @@ class Challenges:
         self._storage = storage
         self._publisher = publisher
         self._lobby = lobby
+        #: Challenges from one player to another (this process): a few, then one a minute.
+        self._pairs = RateLimiter(*PAIR_LIMIT)
 
     async def create(self, player: PlayerInfo, body: ChallengeCreate) -> Challenge:
         """A new challenge from `player`, announced to both players."""
@@ -58,6 +68,11 @@ class Challenges:
         challenged = await self._storage.get_player(body.to)
         if challenged is None:
             raise ServiceError(ErrorCode.NOT_FOUND, "no such player")
+        if not await self._storage.in_lobby(challenged.id, time.time()):
+            raise ServiceError(
+                ErrorCode.WRONG_PHASE, f"{challenged.name} is not in the lobby: challenge later"
+            )
+        take(self._pairs, f"{player.id}>{challenged.id}")
         mine = await self.pending(player)
         if sum(c.challenger.id == player.id for c in mine.challenges) >= CHALLENGES_PENDING:
             raise ServiceError(

@@ -10,6 +10,7 @@ from typing import Any
 import pytest
 
 from server.game import lobby
+from server.game.challenges import PAIR_LIMIT
 from server.protocol.ids import player_channel
 from server.storage import Storage
 from tests.service.conftest import Deploy, on, register, service_of, watch
@@ -111,3 +112,22 @@ async def test_the_lobby_says_who_is_online_and_what_each_does(deploy: Deploy) -
         "Ada": ("playing", table["id"]), "Bob": ("playing", table["id"]), "Cy": ("waiting", None)
     }  # fmt: skip
     assert snapshot.players_online == 3 and lobby.LISTED >= 3
+
+
+async def test_a_player_is_challenged_only_while_there_and_not_in_a_loop(server) -> None:
+    """Before, a challenge to a player who had left was made (and lapsed at the next look, so
+    the limit of pending ones never held), and making and cancelling in a loop sent one
+    player 29 alerts in 40 s."""
+    ada, bob, cy = [await register(server, name) for name in ("Ada", "Bob", "Cy")]
+    body = {"to": cy.info["id"], "game": "nineball"}
+    status, refused = await ada.call("POST", "/api/challenges", body)
+    assert (status, refused["code"]) == (409, "wrong_phase")  # Cy is not in the lobby
+    await bob.call("GET", "/api/challenges", expect=200)  # Bob is
+    body = {"to": bob.info["id"], "game": "nineball"}
+    for _ in range(PAIR_LIMIT[1]):
+        _, made = await ada.call("POST", "/api/challenges", body, 201)
+        await ada.call("POST", f"/api/challenges/{made['id']}/cancel", expect=200)
+    status, refused = await ada.call("POST", "/api/challenges", body)
+    assert (status, refused["code"]) == (429, "rate_limited")
+    await cy.call("GET", "/api/challenges", expect=200)  # the limit is Ada's towards Bob
+    await ada.call("POST", "/api/challenges", {"to": cy.info["id"], "game": "nineball"}, 201)
