@@ -93,9 +93,16 @@ def conclude_rack(
         notes=notes,
         ball_in_hand=bih,
         winner=winner,
-        **visit_after(state, len(facts.pocketed), bool(fouls), nxt),
+        **visit_after(state, _kept_down(facts, respotted), bool(fouls), nxt),
         **fields,
     )
+
+
+def _kept_down(facts: ShotFacts, respotted: dict[str, Point]) -> int:
+    """The balls a shot pocketed that stay down: a respotted one (nine-ball's 9 on a foul or a
+    push-out, eight-ball's 8 on the break) is not pocketed for the visit. Before, it counted,
+    and a break could score more than the balls it took off the table."""
+    return sum(1 for ball in facts.pocketed if ball not in respotted)
 
 
 def visit_after(state: State, pocketed: int, fouled: bool, next_player: int) -> dict[str, object]:

@@ -43,8 +43,9 @@ def test_scratch_on_a_legal_break_is_a_foul_with_ball_in_hand_in_the_kitchen():
 
 
 def test_eight_on_the_break_is_respotted_and_the_breaker_continues():
-    state, d = shoot(new_game(2), hit("cue", "3"), pot("8"))
+    state, d = shoot(new_game(2), hit("cue", "3"), pot("8"), pot("3"))
     assert not d.over and state.turn == 0
+    assert state.visit == 1 and state.best == (1, 0)  # the 3; the 8 is back on the table
     # The rack still covers the foot spot: the 8 goes behind it on the long string.
     x, y = d.respotted["8"]
     assert x == POOL_TABLE.foot_spot[0] and y > POOL_TABLE.foot_spot[1]

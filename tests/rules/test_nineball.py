@@ -137,8 +137,9 @@ def test_push_out_only_on_the_shot_after_the_break():
 
 
 def test_nine_pocketed_on_a_push_out_is_respotted_and_a_push_out_scratch_is_a_foul():
-    state, d = shoot(table(shots=1), hit("cue", "9"), pot("9"), push_out=True)
+    state, d = shoot(table(shots=1, visit=2, best=(2, 0)), hit("cue", "9"), pot("9"), push_out=True)
     assert not d.over and "9" in d.respotted and state.pending == ("play_on", "play_again")
+    assert state.best == (2, 0)  # the 9 is back on the table: no ball of the visit
     state, d = shoot(table(shots=1), rail("cue"), pot("cue"), push_out=True)
     assert codes(d.fouls) == (FoulCode.CUE_POCKETED,) and state.ball_in_hand == "anywhere"
     assert state.pending == ()
