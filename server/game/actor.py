@@ -510,6 +510,7 @@ class TableActor:
                 before=rated[0],
                 after=rated[1],
                 replays=after.replays,
+                private=after.options.private,
             )
             await storage.add_result(result)
 

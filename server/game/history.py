@@ -30,6 +30,8 @@ class MatchResult(BaseModel):
     before: tuple[Rating, Rating]
     after: tuple[Rating, Rating]
     replays: tuple[str, ...] = ()
+    #: Played at a private table: its profiles' entries lead to neither it nor its replays.
+    private: bool = False
 
     def seat_of(self, player_id: str) -> int:
         return 0 if self.seats[0].id == player_id else 1

@@ -38,11 +38,13 @@ def rating_view(rating: Rating) -> RatingView:
 
 
 def seen_from(result: MatchResult, player_id: str) -> ProfileMatch:
-    """A match result from one of its players' side."""
+    """A match result from one of its players' side: a private match's without its table or
+    replays (profiles are public: before, a private table's id on them led anyone to its
+    rematch being played)."""
     me = result.seat_of(player_id)
     them = 1 - me
     return ProfileMatch(
-        table=result.table,
+        table=None if result.private else result.table,
         game=result.game,
         at=result.at,
         opponent=result.seats[them],
@@ -51,7 +53,7 @@ def seen_from(result: MatchResult, player_id: str) -> ProfileMatch:
         score=(result.racks_won[me], result.racks_won[them]),
         rating_before=result.before[me].rating,
         rating_after=result.after[me].rating,
-        replays=list(result.replays),
+        replays=[] if result.private else list(result.replays),
     )
 
 

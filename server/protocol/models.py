@@ -139,7 +139,7 @@ class ProfileMatch(BaseModel):
 
     model_config = _ANSWER
 
-    table: TableId
+    table: TableId | None = Field(description="None for a private table's match")
     game: GameName
     at: float = Field(description="unix time it was decided")
     opponent: PlayerInfo
@@ -148,7 +148,7 @@ class ProfileMatch(BaseModel):
     score: tuple[int, int] = Field(description="racks won: this player's, the opponent's")
     rating_before: float
     rating_after: float
-    replays: list[ReplayId] = Field(description="each finished rack's replay")
+    replays: list[ReplayId] = Field(description="each finished rack's replay (none: private)")
 
 
 class RatingPoint(BaseModel):

@@ -74,3 +74,17 @@ async def test_a_profile_shows_only_the_breaks_its_player_made(server: TestClien
     path = f"/api/players/{ada.info['id']}/profile"
     # The 7 is not hers. (Nor is her 3 shown: the board's best under the name is the 7.)
     assert (await (await server.get(path)).json())["best_breaks"] == {}
+
+
+async def test_a_private_match_on_a_profile_leads_nowhere(server: TestClient) -> None:
+    """Profiles are public: before, a private match's table id on them led anyone to the
+    table, and from it to the private rematch being played."""
+    ada, bob = await register(server, "Ada"), await register(server, "Bob")
+    table = await ada.create("nineball", private=True)
+    _, view = await bob.call("POST", f"/api/tables/{table['id']}/join", expect=200)
+    await both_played(server, ada, bob, view)
+    await ada.call("POST", f"/api/tables/{table['id']}/resign", expect=200)
+    await service_of(server).matches.idle()
+    profile = await (await server.get(f"/api/players/{bob.info['id']}/profile")).json()
+    (match,) = profile["matches"]
+    assert match["won"] and match["table"] is None and match["replays"] == []
