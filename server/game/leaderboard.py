@@ -242,6 +242,7 @@ class Breaks:
                 "only the game's standard rack counts (no gap, the default target, 15 reds, "
                 "the 9 ft table)",
             )
+        await self._beats_own_best(player, claim)
         record_json = claim.record.model_dump_json().encode()
         verified = await self._verified(record_json, player.id, address)
         best = max(verified.best)
@@ -251,6 +252,17 @@ class Breaks:
                 f"the record's best break is {best}, not {claim.score}",
             )
         return await self._enter(player, claim, verified)
+
+    async def _beats_own_best(self, player: PlayerInfo, claim: ClaimRequest) -> None:
+        """DUPLICATE unless the claim beats the player's best break on the game's board: a
+        player's claims climb (before, one break whose last shot was turned by 0.0001 degree
+        again and again, a new break each time by its inputs, filled the board)."""
+        own = await self._storage.best_break(claim.game, player.name)
+        if own is not None and own.player == player.id and own.score >= claim.score:
+            raise ServiceError(
+                ErrorCode.DUPLICATE,
+                f"your best {claim.game} break here is {own.score}: a claim must beat it",
+            )
 
     async def _verified(self, record_json: bytes, *holders: str) -> refereeing.Verified:
         """The record's replay verdict: remembered if this process replayed the same record

@@ -295,3 +295,17 @@ async def test_a_private_tables_replays_do_not_name_it(server: TestClient, priva
     over = await (await server.get(f"/api/tables/{table['id']}")).json()
     replay = await (await server.get(f"/api/replays/{over['replays'][0]}")).json()
     assert replay["table"] == (None if private else table["id"])
+
+
+async def test_a_players_claims_must_beat_their_best(server: TestClient) -> None:
+    """One player's claims climb the board: before, one break whose last shot was turned by a
+    ten-thousandth of a degree, again and again, was a new break each time and filled it."""
+    found = sorted(((b, r) for r, b in map(_record, range(1, 40)) if b > 1), key=lambda x: x[0])
+    (low, lower), (high, higher) = found[0], found[-1]
+    assert low < high
+    cy = await register(server, "Cy")
+    assert (await _claim(cy, higher, high))[0] == 201
+    replayed = service_of(server).breaks.replayed
+    status, code, body = await _claim(cy, lower, low)
+    assert (status, code) == (409, "duplicate") and str(high) in body["reason"]
+    assert service_of(server).breaks.replayed == replayed  # refused before any replay
