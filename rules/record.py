@@ -157,8 +157,11 @@ def _differs(n: int, what: str) -> RuleError:
     return RuleError(Refusal.REPLAY_DIFFERS, f"input #{n}: {what} differs from the record's")
 
 
-def replay(record: GameRecord, simulate: Simulate = physics.simulate) -> Replay:
-    """Play the record's inputs from its rack and check every digest and the final result.
+def replay(
+    record: GameRecord, simulate: Simulate = physics.simulate, until: int | None = None
+) -> Replay:
+    """Play the record's inputs from its rack and check every digest and the final result
+    (`until`: play only the first `until` inputs, and check only their digests).
 
     Raises RuleError naming the first input (#1 is the first) that is illegal (its refusal's
     code) or whose replayed state differs from the record (REPLAY_DIFFERS), and refuses at
@@ -174,6 +177,8 @@ def replay(record: GameRecord, simulate: Simulate = physics.simulate) -> Replay:
     chain = link(b"", first)
     steps = []
     for n, (action, digest) in enumerate(zip(record.inputs, record.digests, strict=True), 1):
+        if until is not None and n > until:
+            return Replay(start=first, steps=steps)
         try:
             outcome = play(state, action, simulate)
         except RuleError as exc:

@@ -34,6 +34,7 @@ from server.protocol.models import (
     Doing,
     GameChoice,
     LobbyMessage,
+    Mode,
     OnlinePlayer,
     PairedMessage,
     PlayerInfo,
@@ -201,15 +202,26 @@ class Lobby:
             online.append(OnlinePlayer(player=player, doing=doing, table=table))
         return online
 
-    async def check_open_tables(self, player: PlayerInfo) -> None:
-        """TOO_MANY_TABLES if `player` already has `OPEN_PER_PLAYER` open public tables (among
-        the newest `SCANNED` listed: an older one would not be shown anyway)."""
+    async def listing(self, player: PlayerInfo, create: TableCreate) -> TableCreate:
+        """The table `player` asks for, as the lobby will list it (among the newest `SCANNED`
+        listed tables: an older one would not be shown anyway). A public open table past the
+        player's `OPEN_PER_PLAYER` is refused (TOO_MANY_TABLES); a public practice or bot
+        table past as many that the player sits at alone is made unlisted: nobody joins it,
+        and its listing is all it would take from the others' (before, a few accounts' 400
+        practice tables left the lobby no room for anyone's open table)."""
+        if create.private:
+            return create
         listed = await self._storage.listed_tables(SCANNED)
-        if sum(creator(record) == player.id for record in listed) >= OPEN_PER_PLAYER:
-            raise ServiceError(
-                ErrorCode.TOO_MANY_TABLES,
-                f"you have {OPEN_PER_PLAYER} open tables: cancel one or wait for an opponent",
-            )
+        if create.mode is Mode.MATCH:
+            if sum(creator(record) == player.id for record in listed) >= OPEN_PER_PLAYER:
+                raise ServiceError(
+                    ErrorCode.TOO_MANY_TABLES,
+                    f"you have {OPEN_PER_PLAYER} open tables: cancel one or wait for an opponent",
+                )
+            return create
+        if sum(alone(record) == player.id for record in listed) >= OPEN_PER_PLAYER:
+            return create.model_copy(update={"private": True})
+        return create
 
     # ----- quick match ------------------------------------------------------------------
     async def quick(self, player: PlayerInfo, choice: GameChoice) -> QuickStatus:

@@ -365,28 +365,41 @@ class Replayed:
     refereed: Refereed
 
 
-def replay_record(record: GameRecord) -> list[Replayed]:
-    """Every input of a record played again with its motion (run in a worker process).
+def replay_record(record: GameRecord, window: range | None = None) -> list[Replayed]:
+    """The inputs of a record in `window` (indexes; None: all) played again with their motion
+    (run in a worker process).
 
-    The record is replayed and checked as a claim is (`rules.record.replay`), through an engine
-    that keeps each shot it simulates: the rules simulate once per shot and never for a
-    choice, so the kept shots pair with the record's shots in order. Raises RuleError (and the
-    engine's errors) for a record that does not replay.
+    The record is replayed and checked as a claim is (`rules.record.replay`), up to the end of
+    the window, through an engine that keeps the shots it simulates within it: the rules
+    simulate once per shot and never for a choice, so the kept shots pair with the window's
+    shots in order. Only the window's motions are held, so a long record costs the memory of
+    the inputs asked for (before, a 5,000-input record held 0.85 GB). Raises RuleError (and
+    the engine's errors) for a record that does not replay.
     """
+    inputs = record.inputs
+    window = range(len(inputs)) if window is None else window
+    shots_before = sum(isinstance(action, Shot) for action in inputs[: window.start])
     shots: list[physics.Shot] = []
+    simulated = 0
 
     def simulate(scene: physics.Scene) -> physics.Shot:
-        shots.append(physics.simulate(scene))
-        return shots[-1]
+        nonlocal simulated
+        shot = physics.simulate(scene)
+        simulated += 1
+        if simulated > shots_before:
+            shots.append(shot)
+        return shot
 
-    played = replay(record, simulate)
+    played = replay(record, simulate, until=window.stop)
     motions = iter(shots)
-    replayed, before = [], played.start
-    for step in played.steps:
+    replayed = []
+    for n in window:
+        if n >= len(played.steps):
+            break
+        step, before = played.steps[n], played.steps[n - 1].state if n else played.start
         trajectory = wire_trajectory(next(motions)) if isinstance(step.action, Shot) else None
         result = Refereed(state=step.state, decision=step.decision, trajectory=trajectory)
         replayed.append(Replayed(player=before.turn, action=step.action, refereed=result))
-        before = step.state
     return replayed
 
 

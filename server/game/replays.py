@@ -23,9 +23,9 @@ guarantees:
    worker time per minute spent on replays it asked for and that were not kept (429 with the
    wait once spent, before any work: server/game/budget.py); a kept page costs nothing.
 4. Pages are kept in a least-recently-used cache of at most `CACHE_BYTES` bytes per process (a
-   replay never changes, so a page never goes stale); one replay computes all its pages at
-   once and keeps at most `REPLAY_SHARE` of the cache: the page asked for and those after it
-   first, so that a reader reading on finds them kept.
+   replay never changes, so a page never goes stale); a computation makes the page asked for
+   and the next (`PAGES_AT_ONCE`), replaying the record up to them and holding only their
+   motions, so that its memory is bounded by the pages asked for, not the record's length.
 """
 
 from __future__ import annotations
@@ -53,9 +53,10 @@ MAX_REPLAYING = 1
 #: Bytes of pages kept per process (a nine-ball rack's is some 100 KB, a snooker frame's a
 #: few MB).
 CACHE_BYTES = 32 * 1024 * 1024
-#: The most of the cache one replay's pages take (a long snooker frame's are more than all of
-#: it: kept whole, its last pages evicted its first and every other replay's).
-REPLAY_SHARE = 0.5
+#: Pages one computation makes: the one asked for and the next. The record is replayed up to
+#: them and only their shots' motions are held (before, every page of a replay was computed
+#: at once: a 5,000-input record held 0.85 GB of a worker).
+PAGES_AT_ONCE = 2
 #: Seconds of worker time per minute one client address may spend on replays not kept.
 REPLAY_SECONDS = 10.0
 
@@ -97,9 +98,14 @@ def page_count(inputs: int) -> int:
     return max(1, -(-inputs // REPLAY_SHOTS_PAGE))
 
 
-def shots_pages(replay_id: str, record: GameRecord) -> list[bytes]:
-    """The `ReplayShots` JSON of each page of a replay (run in a worker process, which also
-    encodes them)."""
+def shots_pages(
+    replay_id: str, record: GameRecord, first: int = 0, count: int | None = None
+) -> list[bytes]:
+    """The `ReplayShots` JSON of pages `first` to `first + count - 1` of a replay (None: to
+    its last; run in a worker process, which also encodes them)."""
+    pages = page_count(len(record.inputs))
+    last = pages if count is None else min(pages, first + count)
+    window = range(first * REPLAY_SHOTS_PAGE, min(len(record.inputs), last * REPLAY_SHOTS_PAGE))
     shots = [
         ReplayShot(
             player=played.player,
@@ -108,19 +114,20 @@ def shots_pages(replay_id: str, record: GameRecord) -> list[bytes]:
             trajectory=played.refereed.trajectory,
             state=played.refereed.state,
         )
-        for played in refereeing.replay_record(record)
+        for played in refereeing.replay_record(record, window)
     ]
-    count = page_count(len(shots))
     return [
         ReplayShots(
             id=replay_id,
             page=page,
-            shots=shots[page * REPLAY_SHOTS_PAGE : (page + 1) * REPLAY_SHOTS_PAGE],
-            next=page + 1 if page + 1 < count else None,
+            shots=shots[
+                (page - first) * REPLAY_SHOTS_PAGE : (page - first + 1) * REPLAY_SHOTS_PAGE
+            ],
+            next=page + 1 if page + 1 < pages else None,
         )
         .model_dump_json()
         .encode()
-        for page in range(count)
+        for page in range(first, last)
     ]
 
 
@@ -137,17 +144,9 @@ class ReplayShotsCache:
         self._running: dict[str, asyncio.Task[list[bytes]]] = {}
         self.budget = WorkBudget(REPLAY_SECONDS, "your replays")
 
-    def _keep(self, replay_id: str, pages: list[bytes], asked: int) -> None:
-        """Keep the pages of a replay computed for page `asked`: that page and those after it
-        (a reader reads on), then those before, as many as fit in REPLAY_SHARE of the cache,
-        the asked one the most recently used."""
-        room, chosen = CACHE_BYTES * REPLAY_SHARE, []
-        for page in (*range(asked, len(pages)), *range(asked)):
-            room -= len(pages[page])
-            if room < 0:
-                break
-            chosen.append(page)
-        for page in reversed(chosen):
+    def _keep(self, replay_id: str, pages: dict[int, bytes]) -> None:
+        """Keep the pages computed, the first asked the most recently used."""
+        for page in sorted(pages, reverse=True):
             old = self._kept.pop((replay_id, page), None)  # kept before: counted once
             if old is not None:
                 self._kept_bytes -= len(old)
@@ -158,16 +157,17 @@ class ReplayShotsCache:
 
     async def _compute(
         self, replay_id: str, record: GameRecord, asked: int, asker: str
-    ) -> list[bytes]:
+    ) -> dict[int, bytes]:
         began = self.budget.clock()
         try:
-            pages = await self._pool.replay_shots(replay_id, record)
+            found = await self._pool.replay_shots(replay_id, record, asked, PAGES_AT_ONCE)
         except refereeing.NOT_REPLAYED as error:
             raise record_refused(error) from None
         finally:
             del self._running[replay_id]
             self.budget.charge(self.budget.clock() - began, asker)
-        self._keep(replay_id, pages, asked)
+        pages = dict(enumerate(found, asked))
+        self._keep(replay_id, pages)
         return pages
 
     def _kept_page(self, replay_id: str, page: int) -> bytes | None:
@@ -177,25 +177,31 @@ class ReplayShotsCache:
         return kept
 
     async def shots(self, replay_id: str, page: int = 0, asker: str = "") -> bytes:
-        if replay_id not in self._running:
+        for _ in range(2):  # a computation under way for other pages of it: then ours
+            if replay_id not in self._running:
+                await self._start(replay_id, page, asker)
             if (kept := self._kept_page(replay_id, page)) is not None:
                 return kept
-            replay = await self._storage.get_replay(replay_id)
-            if replay is None:
-                raise ServiceError(ErrorCode.NOT_FOUND, "no such replay")
-            if page >= (count := page_count(len(replay.record.inputs))):
-                raise ServiceError(ErrorCode.NOT_FOUND, f"the replay has {count} pages")
-            if replay_id not in self._running:  # still: no other request started it meanwhile
-                if (kept := self._kept_page(replay_id, page)) is not None:
-                    return kept
-                self.budget.check(asker)
-                if len(self._running) >= MAX_REPLAYING:
-                    raise ServiceError(ErrorCode.RATE_LIMITED, "replays are being computed")
-                computing = self._compute(replay_id, replay.record, page, asker)
-                task = asyncio.ensure_future(computing)
-                self._running[replay_id] = task
-        # Shielded: a client that goes away does not cancel the others' computation.
-        pages = await asyncio.shield(self._running[replay_id])
-        if page >= len(pages):  # (a request that waited for another's computation)
-            raise ServiceError(ErrorCode.NOT_FOUND, f"the replay has {len(pages)} pages")
-        return pages[page]
+            # Shielded: a client that goes away does not cancel the others' computation.
+            pages = await asyncio.shield(self._running[replay_id])
+            if page in pages:
+                return pages[page]
+        raise ServiceError(ErrorCode.RATE_LIMITED, "this replay is being computed: retry")
+
+    async def _start(self, replay_id: str, page: int, asker: str) -> None:
+        """Start computing the replay's pages from `page` (unless kept, or started meanwhile):
+        NOT_FOUND for an unknown replay or page, RATE_LIMITED past the limits."""
+        if self._kept_page(replay_id, page) is not None:
+            return
+        replay = await self._storage.get_replay(replay_id)
+        if replay is None:
+            raise ServiceError(ErrorCode.NOT_FOUND, "no such replay")
+        if page >= (count := page_count(len(replay.record.inputs))):
+            raise ServiceError(ErrorCode.NOT_FOUND, f"the replay has {count} pages")
+        if replay_id in self._running or self._kept_page(replay_id, page) is not None:
+            return  # another request started it, or kept the page, meanwhile
+        self.budget.check(asker)
+        if len(self._running) >= MAX_REPLAYING:
+            raise ServiceError(ErrorCode.RATE_LIMITED, "replays are being computed")
+        computing = self._compute(replay_id, replay.record, page, asker)
+        self._running[replay_id] = asyncio.ensure_future(computing)

@@ -190,8 +190,10 @@ class WorkerPool:
     async def verify(self, record_json: bytes) -> refereeing.Verified:
         return await self._run(refereeing.verify, record_json)
 
-    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
-        return await self._run(replays.shots_pages, replay_id, record)
+    async def replay_shots(
+        self, replay_id: str, record: GameRecord, first: int, count: int
+    ) -> list[bytes]:
+        return await self._run(replays.shots_pages, replay_id, record, first, count)
 
     async def diagram(self, function: Callable[..., bytes], args: tuple[object, ...]) -> bytes:
         """A diagrams page's answer, computed and encoded in the worker (server/game/diagrams)."""

@@ -47,7 +47,6 @@ from server.protocol.models import (
     IntentAccepted,
     IntentDuplicate,
     Leaderboard,
-    Mode,
     PlayerCreate,
     PlayerInfo,
     PlayerProfile,
@@ -241,8 +240,7 @@ async def create_table(request: web.Request) -> web.Response:
     create = await parse(request, TableCreate)
     service = service_of(request)
     service.throttle("create", player.id)
-    if create.mode is Mode.MATCH and not create.private:
-        await service.lobby.check_open_tables(player)
+    create = await service.lobby.listing(player, create)
     record = tables.new_table(new_table_id(), create, player, new_seed())
     await service.storage.create_table(record)
     service.lobby.changed()

@@ -31,9 +31,9 @@ from server.game.tables import InputEntry, TableRecord
 from server.protocol.encoding import with_encoded
 from server.protocol.models import BreakEntry, OutcomeMessage, PlayerInfo, ReplayView
 
-STORAGE_VERSION = 4
+STORAGE_VERSION = 5
 #: The digest of the stored types' schemas at `STORAGE_VERSION` (see the module docstring).
-FINGERPRINT = "1eb16da3a7deb169"
+FINGERPRINT = "ee9d333f02a2b7b3"
 #: The record types storage keeps (and `fingerprint` digests).
 STORED: tuple[type[BaseModel], ...] = (
     TableRecord,
@@ -61,6 +61,9 @@ MIGRATIONS: dict[int, Callable[[type[BaseModel], Document], Document]] = {
     # replay's rack setup may carry `size` and (setup) `position`, absent before. Leaderboard
     # answers say which options they rank (not stored).
     3: lambda _kind, document: document,
+    # 4 -> 5: match results say whether the table was `private` (False before: profiles list
+    # the tables of results stored earlier, as they did).
+    4: lambda _kind, document: document,
 }
 
 M = TypeVar("M", bound=BaseModel)

@@ -232,3 +232,16 @@ async def test_a_table_its_players_have_left_is_neither_shown_nor_joined(
     for seat in (0, 1):  # both leave the match
         await storage.heartbeat(left["id"], seat, time.time() - 3600)
     assert left["id"] not in await shown()
+
+
+@pytest.mark.parametrize("mode", ["practice", "bot"])
+async def test_a_players_tables_alone_past_a_few_are_not_listed(
+    server: TestClient, mode: str
+) -> None:
+    """Before, a few accounts' 400 practice tables filled the listed tables the lobby reads,
+    and everyone's open tables dropped out of it."""
+    ada = await register(server, "Ada")
+    made = [await ada.create("nineball", mode=mode) for _ in range(OPEN_PER_PLAYER + 2)]
+    assert [view["options"]["private"] for view in made] == [False] * OPEN_PER_PLAYER + [True] * 2
+    listed = await service_of(server).storage.listed_tables(lobby.SCANNED)
+    assert {record.id for record in listed} == {view["id"] for view in made[:OPEN_PER_PLAYER]}

@@ -15,7 +15,7 @@ from rules.record import GameRecord, replay
 from server.client.api_client import from_json
 from server.game import refereeing, replays
 from server.game.budget import WorkBudget
-from server.game.replays import ReplayShotsCache, shots_pages
+from server.game.replays import PAGES_AT_ONCE, ReplayShotsCache, shots_pages
 from server.protocol.errors import ErrorCode, ServiceError
 from server.protocol.ids import REPLAY_SHOTS_PAGE
 from server.protocol.models import ReplayView
@@ -156,10 +156,12 @@ class HeldPool:
         self.release = asyncio.Event()
         self.calls: list[str] = []
 
-    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
+    async def replay_shots(
+        self, replay_id: str, record: GameRecord, first: int, count: int
+    ) -> list[bytes]:
         self.calls.append(replay_id)
         await self.release.wait()
-        return shots_pages(replay_id, record)
+        return shots_pages(replay_id, record, first, count)
 
 
 def _replay_view(replay_id: str, record: dict[str, Any]) -> ReplayView:
@@ -204,31 +206,36 @@ class SizedPool:
 
     def __init__(self, pages: int) -> None:
         self.pages = pages
-        self.calls = 0
+        self.calls: list[int] = []
 
-    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
-        self.calls += 1
-        return [b"%03d" % page + b"x" * 97 for page in range(self.pages)]
+    async def replay_shots(
+        self, replay_id: str, record: GameRecord, first: int, count: int
+    ) -> list[bytes]:
+        self.calls.append(first)
+        return [b"%03d" % page + b"x" * 97 for page in range(first, min(first + count, self.pages))]
 
 
-async def test_a_replay_longer_than_the_cache_is_read_through_with_few_computations(
+async def test_a_long_replay_is_computed_a_few_pages_at_a_time_and_kept(
     storage: Storage, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Before: a replay whose pages outgrew the cache evicted its own first pages as it kept
-    its last ones, so a reader reading on recomputed it at nearly every page, and pages kept
-    again were counted twice, leaving the cache too full ever after to keep anything."""
+    """A reader reading on computes the pages it reads, PAGES_AT_ONCE at a time, and reading
+    them again finds them kept while the cache holds them; the cache counts each page once
+    (before, every page was computed at once, and a replay longer than the cache evicted its
+    own first pages)."""
     monkeypatch.setattr(replays, "REPLAY_SHOTS_PAGE", 1)  # a page an input
-    monkeypatch.setattr(replays, "CACHE_BYTES", 600)  # 6 pages; a replay may keep 3
+    monkeypatch.setattr(replays, "CACHE_BYTES", 600)  # 6 pages
     record, _ = _record(2)
     pages = len(record["inputs"])
     assert pages > 6  # more than the cache holds
     await storage.add_replay(_replay_view("e" * 24, record))
     pool = SizedPool(pages)
     cache = ReplayShotsCache(storage, pool)  # type: ignore[arg-type]
-    for reading in range(3):
-        for page in range(pages):
-            assert (await cache.shots("e" * 24, page))[:3] == b"%03d" % page
-        assert pool.calls == -(-pages // 3) * (reading + 1)  # three pages a computation
+    for page in range(pages):
+        assert (await cache.shots("e" * 24, page))[:3] == b"%03d" % page
+    assert pool.calls == list(range(0, pages, PAGES_AT_ONCE))
+    for page in range(pages - 1, pages - 5, -1):  # the last pages read are kept
+        assert (await cache.shots("e" * 24, page))[:3] == b"%03d" % page
+    assert len(pool.calls) == -(-pages // PAGES_AT_ONCE)
     assert cache._kept_bytes == sum(map(len, cache._kept.values())) <= 600
 
 
@@ -246,7 +253,7 @@ async def test_a_record_that_does_not_replay_is_refused(storage: Storage) -> Non
 class AbandoningPool:
     """A stand-in for the worker pool whose engine abandons the record's first shot."""
 
-    async def replay_shots(self, replay_id: str, record: GameRecord) -> list[bytes]:
+    async def replay_shots(self, replay_id: str, record: GameRecord, *_: int) -> list[bytes]:
         raise physics.BudgetExceeded("input #1: the shot went past the engine's budget")
 
 
@@ -258,6 +265,19 @@ async def test_a_record_whose_shot_the_engine_abandons_is_refused_not_a_500(
     with pytest.raises(ServiceError) as refused:
         await ReplayShotsCache(storage, AbandoningPool()).shots("d" * 24)  # type: ignore[arg-type]
     assert refused.value.code is ErrorCode.ILLEGAL_INPUT and "input #1" in refused.value.reason
+
+
+def test_a_window_of_pages_is_the_same_as_the_whole_replays(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Pages computed a few at a time (the record replayed only up to them, only their motions
+    held) are the pages of the whole replay."""
+    record = GameRecord.model_validate(_record(2)[0])
+    monkeypatch.setattr(replays, "REPLAY_SHOTS_PAGE", 2)
+    whole = shots_pages("a" * 24, record)
+    assert len(whole) >= 3
+    for first in range(len(whole)):
+        assert shots_pages("a" * 24, record, first, 2) == whole[first : first + 2]
 
 
 def test_a_long_replay_comes_in_pages_that_name_the_next(monkeypatch: pytest.MonkeyPatch) -> None:
