@@ -121,6 +121,11 @@ CAS_TRIES = 5
 #: Seconds between a process's words to the storage that it is up (`MatchContext.keep_run`),
 #: and the silence from every process after which the service counts as having been down.
 SAY_UP, OUTAGE = 2.0, 10.0
+#: Seconds after which a process announces a table's presence again though it has not changed
+#: from what it last said: each replica announces the changes it sees, so another's later
+#: announcement may stand on the channel, wrong, until one of them speaks (before, for good
+#: when the replica that announced a player gone died and the player came back elsewhere).
+PRESENCE_REPEAT = 30.0
 #: Rating attempts of one match while other matches of its players keep being rated first
 #: (each conflict means another rating landed, so this is only reached under a storm).
 RATE_TRIES = 20
@@ -174,8 +179,9 @@ class MatchContext:
     practice: RateLimiter
     #: Seconds a disconnected player may stay away before the opponent may claim the win.
     grace: float = GRACE
-    #: The presence each table last announced from this process (to announce changes once).
-    presence: dict[str, PresenceMessage] = field(default_factory=dict)
+    #: The presence each table last announced from this process, and when (to announce a
+    #: change once, and the same again after `PRESENCE_REPEAT`).
+    presence: dict[str, tuple[PresenceMessage, float]] = field(default_factory=dict)
     #: The table version each table's bot last searched at in this process (invariant 6).
     searched: OrderedDict[str, int] = field(default_factory=OrderedDict)
     #: One search at a time for the bot tables of one player (invariant 6).
@@ -602,9 +608,9 @@ class TableActor:
             presence=tables.presence(record, seen, now),
             grace_until=tables.grace_until(record, seen, now, context.grace),
         )
-        last = context.presence.get(record.id)
-        if last is None or last.presence != message.presence:
-            context.presence[record.id] = message
+        last, said = context.presence.get(record.id, (None, 0.0))
+        if last is None or last.presence != message.presence or now - said > PRESENCE_REPEAT:
+            context.presence[record.id] = (message, now)
             await context.publisher.publish(record.channel, message)
         self.tell(commands.BotMove())  # after a restart: finish what was left, let a bot act
         if record.deadline is not None and record.deadline <= now:

@@ -8,8 +8,9 @@ import time
 import pytest
 from aiohttp.test_utils import TestClient
 
-from server.game import tables
+from server.game import actor, tables
 from server.protocol.ids import PRESENCE_TIMEOUT
+from server.protocol.models import PresenceMessage
 from tests.service.conftest import StartServer, register, service_of, up_a_while, watch
 from tests.service.test_match import abandon_input, both_played, picked, seated_match
 
@@ -220,3 +221,26 @@ async def test_heartbeats_are_kept_while_a_dead_replicas_input_waits_out_its_lea
     assert (await storage.heartbeats(view["id"]))[0] > time.time() - PRESENCE_TIMEOUT
     outcome = await watcher.next_kind("outcome")  # then played, once the lease is out
     assert (outcome["shot_id"], outcome["version"]) == ("orphan-0002", view["version"] + 1)
+
+
+async def test_presence_is_announced_again_after_a_while(
+    server: TestClient, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Each replica announces the presence changes it sees; another's wrong announcement (here
+    published straight on the channel, as by a replica that then died) is put right at the
+    next heartbeat after PRESENCE_REPEAT, not left standing for good."""
+    monkeypatch.setattr(actor, "PRESENCE_REPEAT", 0.3)
+    ada, bob, view = await seated_match(server)
+    path = f"/api/tables/{view['id']}/heartbeat"
+    watcher = await watch(server, view["channel"])
+    for player in (ada, bob):
+        await player.call("POST", path, expect=200)
+    assert (await watcher.next_kind("presence"))["presence"] == [True, True]  # said once
+    wrong = PresenceMessage(
+        version=view["version"], presence=(True, False), grace_until=(None, 1.0)
+    )
+    await service_of(server).publisher.publish(view["channel"], wrong)
+    assert (await watcher.next_kind("presence"))["presence"] == [True, False]
+    await asyncio.sleep(0.4)
+    await ada.call("POST", path, expect=200)
+    assert (await watcher.next_kind("presence"))["presence"] == [True, True]
