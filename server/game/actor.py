@@ -98,6 +98,7 @@ from server.protocol.models import (
     AimMessage,
     AimRequest,
     ChatMessage,
+    Ending,
     IntentAccepted,
     IntentDuplicate,
     Mode,
@@ -501,8 +502,10 @@ class TableActor:
         if first is None or second is None:
             return
         storage = self._context.storage
-        if not tables.played_by_both(await storage.inputs(after.id)):
-            return  # ended before both had played (resigned, left, claimed): it does not count
+        if after.ended is not Ending.RACKS and not tables.played_by_both(
+            await storage.inputs(after.id)
+        ):
+            return  # resigned or claimed before both had played: it does not count
         rated = await rate(storage, after, (first, second))
         if rated is not None and after.ended is not None:
             result = MatchResult(

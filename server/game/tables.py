@@ -211,10 +211,11 @@ def seat_of(record: TableRecord, player_id: str) -> int | None:
 
 def played_by_both(inputs: list[InputEntry]) -> bool:
     """Whether each seat has played an input of its own in a match (`inputs`, its log): the
-    clock's for a seat does not count. A match ended before that (a resignation, a claim) is
-    neither rated nor recorded: before, two accounts farmed a rating by creating, joining and
-    resigning (300 points in six loops), and guests pushed a bot's up by resigning
-    to it before its first shot."""
+    clock's for a seat does not count. A match ended off the table before that (a
+    resignation, a claim) is neither rated nor recorded, one its racks decided is (though
+    the loser never came to the table). Before, two accounts farmed a rating by creating,
+    joining and resigning (300 points in six loops), and guests pushed a bot's up by
+    resigning to it before its first shot."""
     return {e.seat for e in inputs if not e.shot_id.startswith(CLOCK_PREFIX)} == {0, 1}
 
 

@@ -15,7 +15,7 @@ import subprocess
 import sys
 import time
 import urllib.request
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import pytest
@@ -372,6 +372,28 @@ class Api:
         """Play the simple shot picker's input for the table as it is; the view after."""
         state = State.model_validate(self.table(table_id)["state"])
         return self.play(table_id, pick(state).model_dump(mode="json", exclude_defaults=True))
+
+
+def both_play(apis: Sequence[Api | None], table_id: str, timeout: float = 60.0) -> dict:
+    """Play the shot picker's inputs at a match until each seat has played one of its own (a
+    match ended before that is neither rated nor recorded); the view then. A seat without an
+    Api in `apis` (None: the bot's) is waited for."""
+    played: set[int] = set()
+    view = apis[0].table(table_id) if apis[0] else apis[1].table(table_id)
+    deadline = time.monotonic() + timeout
+    while played != {0, 1} and view["status"] == "playing":
+        seat = view["next"]["seat"]
+        api = apis[seat]
+        if api is None:  # the bot's turn: it plays by itself
+            assert time.monotonic() < deadline, "the bot did not play"
+            time.sleep(0.1)
+            before = view["version"]
+            view = (apis[0] or apis[1]).table(table_id)
+            played.update({seat} if view["version"] > before else set())
+            continue
+        view = api.play_picked(table_id)
+        played.add(seat)
+    return view
 
 
 class Watched:

@@ -10,6 +10,7 @@ import pytest
 from tests.e2e.conftest import (
     Api,
     artefact,
+    both_play,
     canvas_colours,
     enter_name,
     screenshot,
@@ -70,6 +71,7 @@ def tables(browser, server) -> dict[str, str]:
         bob.sign_in(unique_name("Tb"))
         resigned = ada.call("POST", "/api/tables", {"game": "nineball"})["id"]
         bob.call("POST", f"/api/tables/{resigned}/join")
+        both_play([ada, bob], resigned)  # a match resigned before that is not rated
         bob.call("POST", f"/api/tables/{resigned}/resign")
         played = ada.practice("nineball")
         for _ in range(2):

@@ -13,6 +13,7 @@ from tests.e2e.conftest import (
     Api,
     Server,
     artefact,
+    both_play,
     drawn_balls,
     join_as,
     name_at_home,
@@ -67,6 +68,7 @@ def test_the_profile_page_shows_ratings_graph_and_matches_with_replays(open_page
     for loser in (ada, ada, bob):
         pool = ada.call("POST", "/api/tables", {"game": "nineball"})
         bob.call("POST", f"/api/tables/{pool['id']}/join")
+        both_play([ada, bob], pool["id"])  # a match resigned before that is not rated
         loser.call("POST", f"/api/tables/{pool['id']}/resign")
     page = ada_page
     page.goto(f"{server.url}/player/{bob_name.lower()}")  # names that read alike are one
@@ -279,6 +281,7 @@ def test_the_bot_levels_show_each_level_s_rating(open_page, server):
     api = Api(page, server)
     api.sign_in(unique_name("Bt"))
     table = api.call("POST", "/api/tables", {"game": "nineball", "mode": "bot", "bot": "bot:2"})
+    both_play([api, None], table["id"])  # a match resigned before that is not rated
     api.call("POST", f"/api/tables/{table['id']}/resign")
     rated = next(b for b in api.call("GET", "/api/bots")["bots"] if b["id"] == "bot:2")
     rating = rated["ratings"]["nineball"]

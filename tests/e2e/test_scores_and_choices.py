@@ -124,7 +124,9 @@ def test_a_choice_is_told_on_both_pages_and_listed_in_the_replay(browser, server
         replay.wait_for_function(
             "(n) => window.billiards.shown === n - 1", arg=inputs, timeout=90_000
         )
-        assert f"Shot {inputs} of {inputs}: {told}" in replay.get_by_role("status").inner_text()
+        shots = inputs - 1  # the choice is not a numbered shot
+        said = f"After shot {shots} of {shots}: {told}"
+        assert said in replay.get_by_role("status").inner_text()
     finally:
         for page in pages:
             page.context.close()

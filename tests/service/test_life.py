@@ -10,7 +10,7 @@ from aiohttp.test_utils import TestClient
 
 from server.game import actor, tables
 from server.protocol.ids import PRESENCE_TIMEOUT
-from server.protocol.models import PresenceMessage
+from server.protocol.models import Ending, PresenceMessage, Status
 from tests.service.conftest import StartServer, register, service_of, up_a_while, watch
 from tests.service.test_match import abandon_input, both_played, picked, seated_match
 
@@ -244,3 +244,26 @@ async def test_presence_is_announced_again_after_a_while(
     await asyncio.sleep(0.4)
     await ada.call("POST", path, expect=200)
     assert (await watcher.next_kind("presence"))["presence"] == [True, True]
+
+
+async def test_a_match_its_racks_decided_is_rated_though_the_loser_never_shot(
+    server: TestClient,
+) -> None:
+    """Only a match ended off the table before both played goes unrated: a sweep, the loser
+    never at the table, counts."""
+    ada, _, view = await seated_match(server)
+    storage = service_of(server).storage
+    record = await storage.get_table(view["id"])
+    won = record.model_copy(
+        update={
+            "version": record.version + 1,
+            "status": Status.OVER,
+            "winner": 0,
+            "ended": Ending.RACKS,
+            "racks_won": (record.options.race_to, 0),
+        }
+    )
+    actor_ = service_of(server).matches.owner(view["id"])
+    await actor_._status_changed(record, won)  # as the last rack's outcome stores it
+    ratings = await storage.ratings(ada.info["id"])
+    assert ratings["nineball"].games == 1

@@ -71,9 +71,17 @@ class ReplayPage {
     if (this.playing && !this.animation && next < this.shots.length) this.show(next);
   }
 
+  /** How many shots (not choices) the inputs up to input i hold. */
+  shotsTo(i) {
+    return this.shots.slice(0, i + 1).filter((s) => s.trajectory).length;
+  }
+
   listShot(i) {
     const shot = this.shots[i];
     const item = document.createElement("li");
+    // Shots are numbered; a choice is told between them, unnumbered.
+    if (shot.trajectory) item.value = this.shotsTo(i);
+    else item.style.listStyleType = "none";
     const link = document.createElement("a");
     link.href = `?shot=${i + 1}`;
     link.textContent = playedWords(this.view, shot);
@@ -117,10 +125,13 @@ class ReplayPage {
     if (this.playing && i + 1 < this.shots.length) setTimeout(() => this.current === i && !this.animation && this.show(i + 1), 600 / this.speed);
   }
 
-  /** "Shot i of n: words", said again with the new count as more shots come in. */
+  /** "Shot k of n: words" (a choice: "After shot k of n: words"), counting shots, not
+   *  choices, and said again with the new count as more shots come in. */
   sayShot(i, words) {
     this.shotWords = { i, words };
-    this.say(`Shot ${i + 1} of ${this.shots.length}: ${words}`);
+    const of = this.shotsTo(this.shots.length - 1);
+    const where = this.shots[i].trajectory ? "Shot" : "After shot";
+    this.say(`${where} ${this.shotsTo(i)} of ${of}: ${words}`);
   }
 
   say(text) {
