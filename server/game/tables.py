@@ -424,8 +424,12 @@ def last_seen(record: TableRecord, seen: Seen) -> Seen:
 def presence(record: TableRecord, seen: Seen, now: float) -> tuple[bool, bool]:
     """Whether each seated human has been here lately (`seen`: the last heartbeat per seat).
 
-    Bots and empty seats count as present; so does everyone before the match has started.
+    Bots and empty seats count as present; so does everyone before the match has started,
+    except the player of an open table who has left it (`waiting`), whom a visitor cannot
+    join.
     """
+    if record.status is Status.OPEN:
+        return waiting(record, seen, now), True
     last = last_seen(record, seen) if record.status is Status.PLAYING else (now, now)
     here = [
         occupant is None or is_bot(occupant) or now - when < PRESENCE_TIMEOUT

@@ -224,7 +224,8 @@ async def test_a_table_its_players_have_left_is_neither_shown_nor_joined(
     assert waiting["id"] in await shown() and left["id"] not in await shown()
     status, body = await bob.call("POST", f"/api/tables/{left['id']}/join")
     assert (status, body["code"]) == (409, "wrong_phase")
-    assert (await (await server.get(f"/api/tables/{left['id']}")).json())["status"] == "open"
+    view = await (await server.get(f"/api/tables/{left['id']}")).json()
+    assert view["status"] == "open" and view["presence"] == [False, True]  # a page says so
     await ada.call("POST", f"/api/tables/{left['id']}/heartbeat", expect=200)  # she is back
     assert left["id"] in await shown()
     _, joined = await bob.call("POST", f"/api/tables/{left['id']}/join", expect=200)

@@ -245,8 +245,11 @@ class PlayPage {
     if (v.status === "open") {
       // Nothing is played before the opponent comes: only what to do about it.
       const lobby = v.options.private ? "" : ", or wait for a player from the lobby";
-      const invite = this.mine === null ? `Join this table to play ${seatName(v, 0)}.` : `Send this table's link to your opponent${lobby}.`;
-      $("status").textContent = [this.notice, nextWords(v), invite].filter(Boolean).join(" ");
+      const gone = `${seatName(v, 0)} has left this table: it waits for them to come back.`;
+      const visit = v.presence[0] ? `Join this table to play ${seatName(v, 0)}.` : gone;
+      const invite = this.mine === null ? visit : `Send this table's link to your opponent${lobby}.`;
+      const waits = this.mine !== null || v.presence[0] ? nextWords(v) : "";
+      $("status").textContent = [this.notice, waits, invite].filter(Boolean).join(" ");
       return;
     }
     const words = this.state.last ? outcomeWords(v, this.state.last) : "";
@@ -359,7 +362,7 @@ class PlayPage {
   actions(mine) {
     const v = this.state.view;
     const list = [];
-    if (mine === null && v.status === "open") list.push(button("Join this table", () => this.join(), "primary"));
+    if (mine === null && v.status === "open" && v.presence[0]) list.push(button("Join this table", () => this.join(), "primary"));
     if (mine === null && v.mode !== "practice" && v.status === "playing") {
       list.push(Object.assign(document.createElement("p"), { className: "share muted", textContent: "You are watching this match." }));
     }
