@@ -74,7 +74,8 @@ What a backend must guarantee
    `touch_lobby` keeps a player present in the lobby until a time; `in_lobby` says whether it
    still is.
 15. **Unused guests expire.** A player's last sign of life is its `add_player` or its latest
-   successful `claim_name` (registering, and every heartbeat, claims its name).
+   successful `claim_name` (registering, every heartbeat and the lobby's and a quick match's
+   polls claim its name).
    `expire_players(before, limit)` deletes at most `limit` players whose last sign of life is
    before `before` and who have no rating, earliest first, and returns their ids; a player
    with a rating is never deleted. So players are not kept for ever: a guest who never played
