@@ -141,7 +141,7 @@ class ReplayShotsCache:
         self._pool = pool
         self._kept: OrderedDict[tuple[str, int], bytes] = OrderedDict()
         self._kept_bytes = 0
-        self._running: dict[str, asyncio.Task[list[bytes]]] = {}
+        self._running: dict[str, asyncio.Task[dict[int, bytes]]] = {}
         self.budget = WorkBudget(REPLAY_SECONDS, "your replays")
 
     def _keep(self, replay_id: str, pages: dict[int, bytes]) -> None:
