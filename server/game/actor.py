@@ -293,11 +293,11 @@ class TableActor:
     async def ask(self, command: ClientCommand) -> object:
         """Run a client's command in turn (one of `commands.Beside` at once) and return the
         actor's answer: an `IntentAccepted` or `IntentDuplicate` (`Play`, answered once
-        accepted; it is played afterwards), the
-        stored `TableRecord` (seat and match commands), a `PresenceMessage` (`Heartbeat`) or
-        the `ChatMessage` sent (`QuickMessage`). ServiceError refuses it, changing nothing;
-        any other error the command met (the storage unreachable, a bug) is raised here as
-        well as logged, so that no request waits for an answer that will never come."""
+        accepted; it is played afterwards), the stored `TableRecord` (seat and match
+        commands), a `PresenceMessage` (`Heartbeat`) or the `ChatMessage` sent
+        (`QuickMessage`). ServiceError refuses it, changing nothing; any other error the
+        command met (the storage unreachable, a bug) is raised here as well as logged, so
+        that no request waits for an answer that will never come."""
         if isinstance(command, commands.Beside):  # changes nothing of the table: no queue
             self._beside += 1
             try:

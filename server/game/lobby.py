@@ -125,7 +125,7 @@ class Lobby:
         self._publisher = publisher
         self._dirty = asyncio.Event()
         #: Each seat's last heartbeat of a table, as presence counts it (the service sets the
-        #: matches' `MatchContext.seen`, which counts no heartbeat older than the process).
+        #: matches' `MatchContext.seen`, which counts none older than the service's run).
         self.seen: Callable[[str], Awaitable[tables.Seen]] = storage.heartbeats
 
     def changed(self) -> None:
@@ -160,13 +160,13 @@ class Lobby:
 
     async def tables(self) -> TableList:
         """The listed tables the lobby shows (`fair_share`), less those whose players have
-        left (`tables.shown`)."""
+        left (`tables.attended`)."""
         listed = fair_share(await self._storage.listed_tables(SCANNED))
         now = time.time()
         summaries: list[TableSummary] = [
             tables.summary(record, await self.spectators(record))
             for record in listed
-            if tables.shown(record, await self.seen(record.id), now)
+            if tables.attended(record, await self.seen(record.id), now)
         ]
         return TableList(tables=summaries)
 

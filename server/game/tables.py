@@ -446,16 +446,10 @@ def waiting(record: TableRecord, seen: Seen, now: float) -> bool:
     return now - (seen[0] or record.created) < PRESENCE_TIMEOUT
 
 
-def shown(record: TableRecord, seen: Seen, now: float) -> bool:
-    """Whether the lobby shows a listed table: an open one while its player waits, a started
-    one while anyone plays at it (not one all its players have left, until it expires)."""
-    if record.status is Status.OPEN:
-        return waiting(record, seen, now)
-    return attended(record, seen, now)
-
-
 def attended(record: TableRecord, seen: Seen, now: float) -> bool:
-    """Whether any player of flesh is at the table (a bot or an empty seat is nobody)."""
+    """Whether any player of flesh is at the table (a bot or an empty seat is nobody): the
+    lobby shows a listed table while someone is (an open one while its player waits, a
+    started one not all its players have left)."""
     here = presence(record, seen, now)
     return any(
         present and occupant is not None and not is_bot(occupant)

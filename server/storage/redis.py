@@ -165,8 +165,6 @@ for i = 2, #KEYS do redis.call('ZADD', KEYS[i], ARGV[2], ARGV[3]) end
 return 1
 """
 
-# KEYS: the challenge's hash, each player's pending set. ARGV: the settled document, status,
-# challenge id.
 #: Invariant 16: KEYS[1] the service's hash {since, alive}; ARGV now, outage (as text: a
 #: float goes through Lua's number, but is stored and answered as the text it came as).
 _SERVICE_SINCE = """
@@ -178,6 +176,8 @@ if not alive or now > alive then redis.call('HSET', KEYS[1], 'alive', ARGV[1]) e
 redis.call('HSET', KEYS[1], 'since', since)
 return since
 """
+# KEYS: the challenge's hash, each player's pending set. ARGV: the settled document, status,
+# challenge id.
 _SETTLE_CHALLENGE = """
 if redis.call('HGET', KEYS[1], 'status') ~= 'pending' then return 0 end
 redis.call('HSET', KEYS[1], 'status', ARGV[2], 'doc', ARGV[1])

@@ -389,7 +389,8 @@ def both_play(apis: Sequence[Api | None], table_id: str, timeout: float = 60.0) 
             time.sleep(0.1)
             before = view["version"]
             view = (apis[0] or apis[1]).table(table_id)
-            played.update({seat} if view["version"] > before else set())
+            if view["version"] > before:
+                played.add(seat)
             continue
         view = api.play_picked(table_id)
         played.add(seat)
